@@ -1,0 +1,22 @@
+//! The physics core: plain safe Rust, no FFI types.
+//!
+//! A [`Model`] owns the parameters, the rock height map and the bookkeeping
+//! (excavated volume, cutting energy). It answers three questions:
+//!
+//! * [`Model::evaluate`]: the contact force for a pose, against the rock as
+//!   committed (a trial evaluation; never changes anything);
+//! * [`Model::commit`]: cut the rock at a pose (Model Exchange event);
+//! * [`Model::advance`]: move the cutter for a time step and cut the rock along
+//!   the whole path (Co-Simulation step).
+#![forbid(unsafe_code)]
+
+pub mod error;
+pub mod params;
+pub mod pose;
+
+mod model;
+
+pub use error::{KerfError, Result};
+pub use model::{Model, ModelState, Outputs};
+pub use params::{CsmVariant, DirectionRule, Params};
+pub use pose::{Pose, Twist};

@@ -1,0 +1,309 @@
+//! Every tunable of the model in one struct with a `Default` that is the
+//! thesis reference scene (Ericsson 2010, Table 2). The FMI parameters map
+//! one-to-one onto these fields (see modelDescription.xml).
+
+use super::error::{KerfError, Result};
+
+/// Disc geometry (thesis ch. 6, constant-cross-section disc).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CutterParams {
+    /// Disc radius `R` \[m\] (`cutter.radius`).
+    pub radius: f64,
+    /// Tip width `T` \[m\] (`cutter.tipWidth`).
+    pub tip_width: f64,
+    /// Tip profile radius `r` \[m\] (`cutter.tipRadius`): `R(y) = R - r + sqrt(r^2 - y^2)`.
+    pub tip_radius: f64,
+}
+
+/// Which base-pressure law gives `P'` (`csm.variant`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CsmVariant {
+    /// 1: thesis eq. 15, `P' = C cbrt(ucs^2 bts S / sqrt(R T))`.
+    Thesis = 1,
+    /// 2: Rostami (1997) as usually cited, `P' = C cbrt(ucs^2 bts S / (phi sqrt(R T)))`.
+    Rostami1997 = 2,
+    /// 3: Ozdemir & Rostami (1993) eq. 2, `P'1 = -32628 + 521 sqrt(ucs)` (psi, imperial).
+    Ozdemir1 = 3,
+    /// 4: Ozdemir & Rostami (1993) eq. 3 (seven-term linear regression, imperial).
+    Ozdemir2 = 4,
+    /// 5: Ozdemir & Rostami (1993) eq. 4 (eight-term regression, imperial).
+    Ozdemir3 = 5,
+}
+
+impl CsmVariant {
+    pub fn from_index(i: i32) -> Option<Self> {
+        Some(match i {
+            1 => Self::Thesis,
+            2 => Self::Rostami1997,
+            3 => Self::Ozdemir1,
+            4 => Self::Ozdemir2,
+            5 => Self::Ozdemir3,
+            _ => return None,
+        })
+    }
+}
+
+/// Rock strength and the CSM force law (thesis ch. 3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CsmParams {
+    /// Uniaxial compressive strength \[Pa\] (`rock.ucs`).
+    pub ucs: f64,
+    /// Brazilian tensile strength \[Pa\] (`rock.bts`).
+    pub bts: f64,
+    /// CSM constant `C` \[1\] (`csm.C`).
+    pub c: f64,
+    /// Spacing between cuts `S` \[m\] (`csm.spacing`).
+    pub spacing: f64,
+    /// Pressure-distribution exponent `psi` \[1\] (`csm.psi`).
+    pub psi: f64,
+    /// Base-pressure law (`csm.variant`).
+    pub variant: CsmVariant,
+}
+
+/// Sliding friction between rim and rock (thesis ch. 7.6 and App. A).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrictionParams {
+    /// Sliding friction coefficient (`friction.mu`).
+    pub mu: f64,
+    /// Slip speed at which `mu` is reached (`friction.vs`) \[m/s\].
+    pub vs: f64,
+}
+
+/// The height map (thesis ch. 5) and its deformation (ch. 8, App. B).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RockParams {
+    pub x_min: f64,
+    pub x_max: f64,
+    pub y_min: f64,
+    pub y_max: f64,
+    /// Nodes along x (`rock.nx`), at least 2.
+    pub nx: usize,
+    /// Nodes along y (`rock.ny`), at least 2.
+    pub ny: usize,
+    /// Height of the initial flat face \[m\] (`rock.z0`).
+    pub z0: f64,
+    /// Surface file to start from instead of the flat face ("" = flat).
+    pub initial_surface: String,
+    /// Where `fmi2Terminate` writes the surface ("" = nowhere).
+    pub final_surface: String,
+    /// Share of the penetration made permanent, in (0, 1] (`rock.plasticFraction`).
+    pub plastic_fraction: f64,
+}
+
+/// How the direction of the cutting force is found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DirectionRule {
+    /// 1 (default): kerf's rule. In the rim plane the resultant lies at
+    /// `beta = phi / (2 + psi)` from the lowest contact point towards the
+    /// leading edge of the contact arc; across the tip it leans by the
+    /// load-weighted mean normal of the tip profile and side faces.
+    Kerf = 1,
+    /// 2: the thesis's rule (eqs 41-43): mean normal of the penetrated rock
+    /// triangles, force applied where the ray to the penetrated-plane centre
+    /// meets the rim.
+    Thesis = 2,
+}
+
+/// Numerical settings: each trades speed against accuracy; `docs/speed-vs-error.md`
+/// measures the trade.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Numerics {
+    /// Slices across the tip profile used to find the contact (odd, >= 3).
+    pub tip_slices: usize,
+    /// Angular resolution of the contact-arc search along the rim, as a
+    /// fraction of a mesh cell of arc length (the arc ends are then refined
+    /// by bisection to `1e-9` of the radius).
+    pub arc_step_cells: f64,
+    /// Thickness of the elastic layer of the rock \[m\]: the rock yields once
+    /// the rim is this far inside it; after a cut the rock keeps touching the
+    /// rim through this layer, which is what lets a cutter at rest carry load.
+    pub elastic_depth: f64,
+    /// Below this penetration \[m\] the CSM law, whose slope `dF/dp` is
+    /// infinite at `p = 0`, is replaced by a quadratic with the same value and
+    /// slope at `p_reg`.
+    pub p_reg: f64,
+    /// Largest travel \[m\] of any rim point between two cuts of a swept
+    /// (Co-Simulation) step; longer steps are cut in sub-steps this long.
+    pub sweep_step: f64,
+    /// Direction rule of the cutting force.
+    pub direction: DirectionRule,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Params {
+    pub cutter: CutterParams,
+    pub csm: CsmParams,
+    pub friction: FrictionParams,
+    pub rock: RockParams,
+    pub numerics: Numerics,
+}
+
+impl Default for CutterParams {
+    fn default() -> Self {
+        Self { radius: 0.2159, tip_width: 0.013, tip_radius: 0.0127 }
+    }
+}
+
+impl Default for CsmParams {
+    fn default() -> Self {
+        Self { ucs: 158e6, bts: 6.78e6, c: 2.12, spacing: 0.051, psi: 0.0, variant: CsmVariant::Thesis }
+    }
+}
+
+impl Default for FrictionParams {
+    /// `mu = 0.3`: dry steel on hard rock lies at 0.3-0.5 and wetted faces at
+    /// 0.2-0.3; 0.3 is the middle of what TBM face conditions give. It only
+    /// acts on slip (skid, side slide), never on pure rolling.
+    /// `vs = 0.01 m/s`: one percent of the cutting speed, small enough that a
+    /// skidding cutter feels full friction, large enough to keep the STEP smooth
+    /// for an implicit solver.
+    fn default() -> Self {
+        Self { mu: 0.3, vs: 0.01 }
+    }
+}
+
+impl Default for RockParams {
+    /// A 1.5 m x 0.2 m face at 1 mm cells that holds the 1 m reference cut
+    /// from x = 0 to x = 1 m along y = 0.
+    fn default() -> Self {
+        Self {
+            x_min: -0.25,
+            x_max: 1.25,
+            y_min: -0.1,
+            y_max: 0.1,
+            nx: 1501,
+            ny: 201,
+            z0: 0.0,
+            initial_surface: String::new(),
+            final_surface: String::new(),
+            plastic_fraction: 1.0,
+        }
+    }
+}
+
+impl Default for Numerics {
+    fn default() -> Self {
+        Self {
+            tip_slices: 9,
+            arc_step_cells: 0.5,
+            elastic_depth: 2.0e-6,
+            p_reg: 5.0e-5,
+            sweep_step: 5.0e-4,
+            direction: DirectionRule::Kerf,
+        }
+    }
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Self {
+            cutter: CutterParams::default(),
+            csm: CsmParams::default(),
+            friction: FrictionParams::default(),
+            rock: RockParams::default(),
+            numerics: Numerics::default(),
+        }
+    }
+}
+
+fn finite_positive(name: &'static str, v: f64) -> Result<()> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(KerfError::BadParameter { name, value: v, why: "must be finite and positive" })
+    }
+}
+
+fn finite(name: &'static str, v: f64) -> Result<()> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(KerfError::BadParameter { name, value: v, why: "must be finite" })
+    }
+}
+
+/// Largest number of height-map nodes accepted (10^10): the map is sparse,
+/// but its tile directory is dense.
+pub const MAX_NODES: f64 = 1.0e10;
+
+impl Params {
+    /// Checks every parameter; the first violation is the error.
+    pub fn validate(&self) -> Result<()> {
+        let c = &self.cutter;
+        finite_positive("cutter.radius", c.radius)?;
+        finite_positive("cutter.tipWidth", c.tip_width)?;
+        finite_positive("cutter.tipRadius", c.tip_radius)?;
+        if c.tip_width > 2.0 * c.tip_radius {
+            return Err(KerfError::BadParameter {
+                name: "cutter.tipWidth",
+                value: c.tip_width,
+                why: "must not exceed 2 * cutter.tipRadius (the tip profile is a circle of that radius)",
+            });
+        }
+        if c.tip_radius >= c.radius {
+            return Err(KerfError::BadParameter {
+                name: "cutter.tipRadius",
+                value: c.tip_radius,
+                why: "must be smaller than cutter.radius",
+            });
+        }
+        let s = &self.csm;
+        finite_positive("rock.ucs", s.ucs)?;
+        finite_positive("rock.bts", s.bts)?;
+        finite_positive("csm.C", s.c)?;
+        finite_positive("csm.spacing", s.spacing)?;
+        if !(s.psi.is_finite() && s.psi > -1.0) {
+            return Err(KerfError::BadParameter { name: "csm.psi", value: s.psi, why: "must be finite and > -1" });
+        }
+        let f = &self.friction;
+        if !(f.mu.is_finite() && f.mu >= 0.0) {
+            return Err(KerfError::BadParameter { name: "friction.mu", value: f.mu, why: "must be finite and >= 0" });
+        }
+        finite_positive("friction.vs", f.vs)?;
+        let r = &self.rock;
+        finite("rock.xMin", r.x_min)?;
+        finite("rock.xMax", r.x_max)?;
+        finite("rock.yMin", r.y_min)?;
+        finite("rock.yMax", r.y_max)?;
+        finite("rock.z0", r.z0)?;
+        if r.x_max <= r.x_min {
+            return Err(KerfError::BadParameter { name: "rock.xMax", value: r.x_max, why: "must exceed rock.xMin" });
+        }
+        if r.y_max <= r.y_min {
+            return Err(KerfError::BadParameter { name: "rock.yMax", value: r.y_max, why: "must exceed rock.yMin" });
+        }
+        if r.nx < 2 {
+            return Err(KerfError::BadParameter { name: "rock.nx", value: r.nx as f64, why: "needs at least 2 nodes" });
+        }
+        if r.ny < 2 {
+            return Err(KerfError::BadParameter { name: "rock.ny", value: r.ny as f64, why: "needs at least 2 nodes" });
+        }
+        if (r.nx as f64) * (r.ny as f64) > MAX_NODES {
+            return Err(KerfError::BadParameter {
+                name: "rock.nx",
+                value: r.nx as f64,
+                why: "rock.nx * rock.ny exceeds 1e10 nodes",
+            });
+        }
+        if !(r.plastic_fraction.is_finite() && r.plastic_fraction > 0.0 && r.plastic_fraction <= 1.0) {
+            return Err(KerfError::BadParameter {
+                name: "rock.plasticFraction",
+                value: r.plastic_fraction,
+                why: "must lie in (0, 1]",
+            });
+        }
+        let n = &self.numerics;
+        if n.tip_slices < 3 || n.tip_slices % 2 == 0 || n.tip_slices > 101 {
+            return Err(KerfError::BadParameter {
+                name: "numerics.tipSlices",
+                value: n.tip_slices as f64,
+                why: "must be odd, between 3 and 101",
+            });
+        }
+        finite_positive("numerics.arcStepCells", n.arc_step_cells)?;
+        finite_positive("numerics.elasticDepth", n.elastic_depth)?;
+        finite_positive("numerics.pReg", n.p_reg)?;
+        finite_positive("numerics.sweepStep", n.sweep_step)?;
+        Ok(())
+    }
+}

@@ -1,0 +1,104 @@
+//! Cutter pose and velocities, and the frame convention of interface.md.
+//!
+//! Rock frame: fixed, z up out of the rock. Cutter frame: origin at the disc
+//! centre, x rolling direction, y axle, z from the lowest rim point to the
+//! centre. Orientation: intrinsic 3-2-1 (yaw, pitch, roll); the rotation that
+//! maps cutter-frame vectors into the rock frame is
+//! `Rz(yaw) * Ry(pitch) * Rx(roll)` with right-handed active matrices.
+
+use nalgebra::{Rotation3, Vector3};
+
+use super::error::{KerfError, Result};
+
+/// Position and orientation of the cutter frame in the rock frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    /// Disc centre \[m\], rock frame.
+    pub position: Vector3<f64>,
+    pub yaw: f64,
+    pub pitch: f64,
+    pub roll: f64,
+}
+
+/// Velocities of the disc, rock frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Twist {
+    /// Velocity of the disc centre \[m/s\].
+    pub velocity: Vector3<f64>,
+    /// Angular velocity of the disc (spin about the axle included) \[rad/s\].
+    pub omega: Vector3<f64>,
+}
+
+impl Default for Twist {
+    fn default() -> Self {
+        Self { velocity: Vector3::zeros(), omega: Vector3::zeros() }
+    }
+}
+
+/// Positions farther than this from the origin \[m\] are rejected as absurd.
+pub const MAX_POSITION: f64 = 1.0e6;
+/// Speeds above this \[m/s\] or spins above this \[rad/s\] are rejected.
+pub const MAX_SPEED: f64 = 1.0e4;
+
+fn check(name: &'static str, v: f64, bound: f64) -> Result<()> {
+    if v.is_finite() && v.abs() <= bound {
+        Ok(())
+    } else {
+        Err(KerfError::BadInput { name, value: v })
+    }
+}
+
+impl Pose {
+    pub fn new(x: f64, y: f64, z: f64, yaw: f64, pitch: f64, roll: f64) -> Self {
+        Self { position: Vector3::new(x, y, z), yaw, pitch, roll }
+    }
+
+    /// Rotation mapping cutter-frame vectors into the rock frame.
+    /// nalgebra's `from_euler_angles(roll, pitch, yaw)` is exactly
+    /// `Rz(yaw) * Ry(pitch) * Rx(roll)` (tested in `tests`).
+    pub fn rotation(&self) -> Rotation3<f64> {
+        Rotation3::from_euler_angles(self.roll, self.pitch, self.yaw)
+    }
+
+    /// Builds a pose from a rotation, inverse of [`Pose::rotation`].
+    pub fn from_rotation(position: Vector3<f64>, r: &Rotation3<f64>) -> Self {
+        let (roll, pitch, yaw) = r.euler_angles();
+        Self { position, yaw, pitch, roll }
+    }
+
+    /// Rejects non-finite or absurd values (angles beyond 1e3 rad included).
+    pub fn validate(&self) -> Result<()> {
+        check("x", self.position.x, MAX_POSITION)?;
+        check("y", self.position.y, MAX_POSITION)?;
+        check("z", self.position.z, MAX_POSITION)?;
+        check("yaw", self.yaw, 1.0e3)?;
+        check("pitch", self.pitch, 1.0e3)?;
+        check("roll", self.roll, 1.0e3)
+    }
+}
+
+impl Twist {
+    pub fn new(v: [f64; 3], w: [f64; 3]) -> Self {
+        Self { velocity: Vector3::from(v), omega: Vector3::from(w) }
+    }
+
+    pub fn validate(&self) -> Result<()> {
+        check("vx", self.velocity.x, MAX_SPEED)?;
+        check("vy", self.velocity.y, MAX_SPEED)?;
+        check("vz", self.velocity.z, MAX_SPEED)?;
+        check("wx", self.omega.x, MAX_SPEED)?;
+        check("wy", self.omega.y, MAX_SPEED)?;
+        check("wz", self.omega.z, MAX_SPEED)
+    }
+}
+
+/// Moves a pose along a twist for a time `h`: the centre with the velocity,
+/// the cutter frame with the angular velocity less its spin about the axle
+/// (the frame is the fork's; it does not spin with the disc).
+pub fn advance_pose(pose: &Pose, twist: &Twist, h: f64) -> Pose {
+    let r = pose.rotation();
+    let axle = r * Vector3::y();
+    let w_frame = twist.omega - axle * twist.omega.dot(&axle);
+    let dr = Rotation3::from_scaled_axis(w_frame * h);
+    Pose::from_rotation(pose.position + twist.velocity * h, &(dr * r))
+}

@@ -6,11 +6,19 @@ use std::fmt;
 #[derive(Debug, Clone, PartialEq)]
 pub enum KerfError {
     /// A parameter is out of its domain (name, value, why).
-    BadParameter { name: &'static str, value: f64, why: &'static str },
+    BadParameter {
+        name: &'static str,
+        value: f64,
+        why: &'static str,
+    },
     /// An input is not finite or absurd (name, value).
     BadInput { name: &'static str, value: f64 },
     /// A surface file could not be read or written (file, line (0 = whole file), what).
-    SurfaceFile { file: String, line: usize, what: String },
+    SurfaceFile {
+        file: String,
+        line: usize,
+        what: String,
+    },
     /// A serialized state blob is corrupt, foreign or from another grid.
     BadState(String),
 }
@@ -24,7 +32,11 @@ impl fmt::Display for KerfError {
             KerfError::BadInput { name, value } => {
                 write!(f, "input {name} = {value} is not a finite, plausible value")
             }
-            KerfError::SurfaceFile { file, line: 0, what } => write!(f, "surface file {file}: {what}"),
+            KerfError::SurfaceFile {
+                file,
+                line: 0,
+                what,
+            } => write!(f, "surface file {file}: {what}"),
             KerfError::SurfaceFile { file, line, what } => {
                 write!(f, "surface file {file}, line {line}: {what}")
             }

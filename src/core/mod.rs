@@ -20,3 +20,6 @@ pub use error::{KerfError, Result};
 pub use model::{Model, ModelState, Outputs};
 pub use params::{CsmVariant, DirectionRule, Params};
 pub use pose::{Pose, Twist};
+pub mod csm;
+pub mod cutter;
+pub mod heightmap;

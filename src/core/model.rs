@@ -54,7 +54,10 @@ impl ModelState {
             return Err(KerfError::BadState("not a kerf state blob".into()));
         }
         let f = |i: usize| f64::from_le_bytes(bytes[i..i + 8].try_into().unwrap());
-        Ok(Self { excavated_volume: f(8), cutting_energy: f(16) })
+        Ok(Self {
+            excavated_volume: f(8),
+            cutting_energy: f(16),
+        })
     }
 }
 
@@ -68,7 +71,13 @@ impl Model {
     /// `rock.initial_surface`).
     pub fn new(params: Params) -> Result<Self> {
         params.validate()?;
-        Ok(Self { params, state: ModelState { excavated_volume: 0.0, cutting_energy: 0.0 } })
+        Ok(Self {
+            params,
+            state: ModelState {
+                excavated_volume: 0.0,
+                cutting_energy: 0.0,
+            },
+        })
     }
 
     pub fn params(&self) -> &Params {
@@ -86,7 +95,11 @@ impl Model {
         pose.validate()?;
         twist.validate()?;
         let p = (self.params.rock.z0 - (pose.position.z - self.params.cutter.radius)).max(0.0);
-        let mut o = Outputs { penetration: p, in_contact: p > 0.0, ..Default::default() };
+        let mut o = Outputs {
+            penetration: p,
+            in_contact: p > 0.0,
+            ..Default::default()
+        };
         o.excavated_volume = self.state.excavated_volume;
         o.cutting_energy = self.state.cutting_energy;
         let _ = Vector3::<f64>::zeros();
@@ -114,7 +127,10 @@ impl Model {
         start.validate()?;
         twist.validate()?;
         if !(h.is_finite() && h >= 0.0) {
-            return Err(KerfError::BadInput { name: "communicationStepSize", value: h });
+            return Err(KerfError::BadInput {
+                name: "communicationStepSize",
+                value: h,
+            });
         }
         Ok(advance_pose(start, twist, h))
     }

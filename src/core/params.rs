@@ -140,13 +140,24 @@ pub struct Params {
 
 impl Default for CutterParams {
     fn default() -> Self {
-        Self { radius: 0.2159, tip_width: 0.013, tip_radius: 0.0127 }
+        Self {
+            radius: 0.2159,
+            tip_width: 0.013,
+            tip_radius: 0.0127,
+        }
     }
 }
 
 impl Default for CsmParams {
     fn default() -> Self {
-        Self { ucs: 158e6, bts: 6.78e6, c: 2.12, spacing: 0.051, psi: 0.0, variant: CsmVariant::Thesis }
+        Self {
+            ucs: 158e6,
+            bts: 6.78e6,
+            c: 2.12,
+            spacing: 0.051,
+            psi: 0.0,
+            variant: CsmVariant::Thesis,
+        }
     }
 }
 
@@ -210,7 +221,11 @@ fn finite_positive(name: &'static str, v: f64) -> Result<()> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(KerfError::BadParameter { name, value: v, why: "must be finite and positive" })
+        Err(KerfError::BadParameter {
+            name,
+            value: v,
+            why: "must be finite and positive",
+        })
     }
 }
 
@@ -218,7 +233,11 @@ fn finite(name: &'static str, v: f64) -> Result<()> {
     if v.is_finite() {
         Ok(())
     } else {
-        Err(KerfError::BadParameter { name, value: v, why: "must be finite" })
+        Err(KerfError::BadParameter {
+            name,
+            value: v,
+            why: "must be finite",
+        })
     }
 }
 
@@ -253,11 +272,19 @@ impl Params {
         finite_positive("csm.C", s.c)?;
         finite_positive("csm.spacing", s.spacing)?;
         if !(s.psi.is_finite() && s.psi > -1.0) {
-            return Err(KerfError::BadParameter { name: "csm.psi", value: s.psi, why: "must be finite and > -1" });
+            return Err(KerfError::BadParameter {
+                name: "csm.psi",
+                value: s.psi,
+                why: "must be finite and > -1",
+            });
         }
         let f = &self.friction;
         if !(f.mu.is_finite() && f.mu >= 0.0) {
-            return Err(KerfError::BadParameter { name: "friction.mu", value: f.mu, why: "must be finite and >= 0" });
+            return Err(KerfError::BadParameter {
+                name: "friction.mu",
+                value: f.mu,
+                why: "must be finite and >= 0",
+            });
         }
         finite_positive("friction.vs", f.vs)?;
         let r = &self.rock;
@@ -267,16 +294,32 @@ impl Params {
         finite("rock.yMax", r.y_max)?;
         finite("rock.z0", r.z0)?;
         if r.x_max <= r.x_min {
-            return Err(KerfError::BadParameter { name: "rock.xMax", value: r.x_max, why: "must exceed rock.xMin" });
+            return Err(KerfError::BadParameter {
+                name: "rock.xMax",
+                value: r.x_max,
+                why: "must exceed rock.xMin",
+            });
         }
         if r.y_max <= r.y_min {
-            return Err(KerfError::BadParameter { name: "rock.yMax", value: r.y_max, why: "must exceed rock.yMin" });
+            return Err(KerfError::BadParameter {
+                name: "rock.yMax",
+                value: r.y_max,
+                why: "must exceed rock.yMin",
+            });
         }
         if r.nx < 2 {
-            return Err(KerfError::BadParameter { name: "rock.nx", value: r.nx as f64, why: "needs at least 2 nodes" });
+            return Err(KerfError::BadParameter {
+                name: "rock.nx",
+                value: r.nx as f64,
+                why: "needs at least 2 nodes",
+            });
         }
         if r.ny < 2 {
-            return Err(KerfError::BadParameter { name: "rock.ny", value: r.ny as f64, why: "needs at least 2 nodes" });
+            return Err(KerfError::BadParameter {
+                name: "rock.ny",
+                value: r.ny as f64,
+                why: "needs at least 2 nodes",
+            });
         }
         if (r.nx as f64) * (r.ny as f64) > MAX_NODES {
             return Err(KerfError::BadParameter {
@@ -285,7 +328,10 @@ impl Params {
                 why: "rock.nx * rock.ny exceeds 1e10 nodes",
             });
         }
-        if !(r.plastic_fraction.is_finite() && r.plastic_fraction > 0.0 && r.plastic_fraction <= 1.0) {
+        if !(r.plastic_fraction.is_finite()
+            && r.plastic_fraction > 0.0
+            && r.plastic_fraction <= 1.0)
+        {
             return Err(KerfError::BadParameter {
                 name: "rock.plasticFraction",
                 value: r.plastic_fraction,

@@ -31,7 +31,10 @@ pub struct Twist {
 
 impl Default for Twist {
     fn default() -> Self {
-        Self { velocity: Vector3::zeros(), omega: Vector3::zeros() }
+        Self {
+            velocity: Vector3::zeros(),
+            omega: Vector3::zeros(),
+        }
     }
 }
 
@@ -50,7 +53,12 @@ fn check(name: &'static str, v: f64, bound: f64) -> Result<()> {
 
 impl Pose {
     pub fn new(x: f64, y: f64, z: f64, yaw: f64, pitch: f64, roll: f64) -> Self {
-        Self { position: Vector3::new(x, y, z), yaw, pitch, roll }
+        Self {
+            position: Vector3::new(x, y, z),
+            yaw,
+            pitch,
+            roll,
+        }
     }
 
     /// Rotation mapping cutter-frame vectors into the rock frame.
@@ -63,7 +71,12 @@ impl Pose {
     /// Builds a pose from a rotation, inverse of [`Pose::rotation`].
     pub fn from_rotation(position: Vector3<f64>, r: &Rotation3<f64>) -> Self {
         let (roll, pitch, yaw) = r.euler_angles();
-        Self { position, yaw, pitch, roll }
+        Self {
+            position,
+            yaw,
+            pitch,
+            roll,
+        }
     }
 
     /// Rejects non-finite or absurd values (angles beyond 1e3 rad included).
@@ -79,7 +92,10 @@ impl Pose {
 
 impl Twist {
     pub fn new(v: [f64; 3], w: [f64; 3]) -> Self {
-        Self { velocity: Vector3::from(v), omega: Vector3::from(w) }
+        Self {
+            velocity: Vector3::from(v),
+            omega: Vector3::from(w),
+        }
     }
 
     pub fn validate(&self) -> Result<()> {

@@ -1,0 +1,296 @@
+//! The disc cutter as a solid (thesis ch. 6): a constant-cross-section disc of
+//! radius `R` whose rim, for `|y| <= T/2`, follows the tip profile
+//! `rho(y) = R - r + sqrt(r^2 - y^2)` (eq. 38), closed by flat side faces in the
+//! planes `y = +-T/2`. In the cutter frame (x rolling, y axle, z up) a rim
+//! point at angle `theta` from the lowest point (positive towards +x) is
+//! `(rho sin(theta), y, -rho cos(theta))`.
+//!
+//! The solid `{ |y| <= T/2, sqrt(x^2 + z^2) <= rho(y) }` is convex (`rho` is
+//! concave), so a vertical line meets it in one segment; its lower end is
+//! where the rock under the cutter must be cut to.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::params::CutterParams;
+use super::pose::Pose;
+
+/// Where the lower end of a vertical line through the solid lies.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Face {
+    /// On the rim, at axle coordinate `y`.
+    Rim { y: f64 },
+    /// On the side face `y = +T/2` (`+1`) or `y = -T/2` (`-1`).
+    Side(i8),
+}
+
+/// A posed disc: geometry plus the pose's rotation, ready for queries.
+#[derive(Debug, Clone, Copy)]
+pub struct PosedDisc {
+    pub radius: f64,
+    pub half_width: f64,
+    pub tip_radius: f64,
+    /// Cutter-to-rock rotation.
+    pub rot: Matrix3<f64>,
+    /// Disc centre, rock frame.
+    pub centre: Vector3<f64>,
+}
+
+impl PosedDisc {
+    pub fn new(c: &CutterParams, pose: &Pose) -> Self {
+        Self {
+            radius: c.radius,
+            half_width: 0.5 * c.tip_width,
+            tip_radius: c.tip_radius,
+            rot: *pose.rotation().matrix(),
+            centre: pose.position,
+        }
+    }
+
+    /// Rim radius at axle coordinate `y` (eq. 38), `|y| <= T/2`.
+    #[inline]
+    pub fn rho(&self, y: f64) -> f64 {
+        let r = self.tip_radius;
+        self.radius - r + (r * r - y * y).max(0.0).sqrt()
+    }
+
+    /// Outward unit normal of the rim at `(theta, y)`, cutter frame.
+    #[inline]
+    pub fn rim_normal_local(&self, theta: f64, y: f64) -> Vector3<f64> {
+        let r = self.tip_radius;
+        let c = (r * r - y * y).max(0.0).sqrt() / r;
+        let s = y / r;
+        Vector3::new(c * theta.sin(), s, -c * theta.cos())
+    }
+
+    /// Rim point at `(theta, y)`, cutter frame.
+    #[inline]
+    pub fn rim_point_local(&self, theta: f64, y: f64) -> Vector3<f64> {
+        let rho = self.rho(y);
+        Vector3::new(rho * theta.sin(), y, -rho * theta.cos())
+    }
+
+    #[inline]
+    pub fn to_world(&self, local: &Vector3<f64>) -> Vector3<f64> {
+        self.centre + self.rot * local
+    }
+
+    /// Lowest point of the solid on the vertical line through `(x, y)` of the
+    /// rock frame: its height and the face it lies on; `None` when the line
+    /// misses the disc.
+    pub fn lower_boundary(&self, x: f64, y: f64) -> Option<(f64, Face)> {
+        // local coordinates along the line: q(t) = a + t d, t the rock height
+        let rt = self.rot.transpose();
+        let a = rt * Vector3::new(x - self.centre.x, y - self.centre.y, -self.centre.z);
+        let d = rt.column(2).into_owned();
+        let h = self.half_width;
+        if d.y.abs() < 1e-12 {
+            // axle horizontal: the line stays in the plane y_local = a.y
+            if a.y.abs() > h {
+                return None;
+            }
+            let rho = self.rho(a.y);
+            let b = a.x * d.x + a.z * d.z;
+            let c = a.x * a.x + a.z * a.z - rho * rho;
+            let dd = b * b - c;
+            if dd < 0.0 {
+                return None;
+            }
+            return Some((-b - dd.sqrt(), Face::Rim { y: a.y }));
+        }
+        // general pose: slab |q_y| <= h gives t in [t1, t2]; inside it the
+        // convex g(t) = |q_xz(t)| - rho(q_y(t)) must be <= 0
+        let (mut t1, mut t2) = ((-h - a.y) / d.y, (h - a.y) / d.y);
+        if t1 > t2 {
+            std::mem::swap(&mut t1, &mut t2);
+        }
+        let g = |t: f64| {
+            let q = a + d * t;
+            (q.x * q.x + q.z * q.z).sqrt() - self.rho(q.y.clamp(-h, h))
+        };
+        if g(t1) <= 0.0 {
+            let qy = a.y + d.y * t1;
+            return Some((t1, Face::Side(if qy > 0.0 { 1 } else { -1 })));
+        }
+        // golden-section search for the minimum of g on [t1, t2]
+        let (mut lo, mut hi) = (t1, t2);
+        let k = 0.618_033_988_749_895;
+        let mut m1 = hi - k * (hi - lo);
+        let mut m2 = lo + k * (hi - lo);
+        let (mut g1, mut g2) = (g(m1), g(m2));
+        let tol = 1e-12 * (1.0 + self.radius);
+        while hi - lo > tol {
+            if g1 <= 0.0 || g2 <= 0.0 {
+                break;
+            }
+            if g1 < g2 {
+                hi = m2;
+                m2 = m1;
+                g2 = g1;
+                m1 = hi - k * (hi - lo);
+                g1 = g(m1);
+            } else {
+                lo = m1;
+                m1 = m2;
+                g1 = g2;
+                m2 = lo + k * (hi - lo);
+                g2 = g(m2);
+            }
+        }
+        let inside = if g1 <= 0.0 {
+            m1
+        } else if g2 <= 0.0 {
+            m2
+        } else {
+            return None;
+        };
+        // bisection for the entry point between t1 (outside) and `inside`
+        let (mut out, mut inn) = (t1, inside);
+        for _ in 0..60 {
+            let mid = 0.5 * (out + inn);
+            if g(mid) <= 0.0 {
+                inn = mid;
+            } else {
+                out = mid;
+            }
+            if inn - out < tol {
+                break;
+            }
+        }
+        let qy = (a.y + d.y * inn).clamp(-h, h);
+        Some((inn, Face::Rim { y: qy }))
+    }
+
+    /// Bounding box (rock frame, `[x_lo, x_hi, y_lo, y_hi]`) of the part of the
+    /// solid below height `z_top`, or `None` when the whole disc is above it.
+    pub fn footprint_below(&self, z_top: f64) -> Option<[f64; 4]> {
+        let mut bb = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let mut any = false;
+        let mut add = |p: Vector3<f64>| {
+            bb[0] = bb[0].min(p.x);
+            bb[1] = bb[1].max(p.x);
+            bb[2] = bb[2].min(p.y);
+            bb[3] = bb[3].max(p.y);
+            any = true;
+        };
+        // the part of the solid below z_top is the convex hull of the parts
+        // of its rim edge circles (and the tip circle) below z_top together
+        // with the points where those circles cross z_top
+        for &y in &[-self.half_width, 0.0, self.half_width] {
+            let rho = self.rho(y);
+            if let Some((t0, dt)) = self.arc_below(y, rho, z_top) {
+                let n = 24;
+                for k in 0..=n {
+                    let th = t0 - dt + 2.0 * dt * k as f64 / n as f64;
+                    add(self.to_world(&Vector3::new(rho * th.sin(), y, -rho * th.cos())));
+                }
+                // extremes of x and y along the arc
+                for axis in 0..2 {
+                    let (ra, rb) = (self.rot[(axis, 0)], -self.rot[(axis, 2)]);
+                    let tm = ra.atan2(rb);
+                    for th in [tm, tm + std::f64::consts::PI] {
+                        let mut dth = th - t0;
+                        dth = (dth + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI)
+                            - std::f64::consts::PI;
+                        if dth.abs() <= dt {
+                            add(self.to_world(&Vector3::new(rho * th.sin(), y, -rho * th.cos())));
+                        }
+                    }
+                }
+            }
+        }
+        any.then_some(bb)
+    }
+
+    /// The arc of the rim circle at axle coordinate `y` (radius `rho`) lying
+    /// below height `z_top`: centre angle and half-width, or `None`.
+    pub fn arc_below(&self, y: f64, rho: f64, z_top: f64) -> Option<(f64, f64)> {
+        // world z(theta) = c_z + r21 y + rho (r20 sin - r22 cos)
+        let (a, b) = (self.rot[(2, 0)], -self.rot[(2, 2)]);
+        let m = (a * a + b * b).sqrt();
+        let s = (z_top - self.centre.z - self.rot[(2, 1)] * y) / rho;
+        if m < 1e-12 {
+            return (s > 0.0).then_some((0.0, std::f64::consts::PI));
+        }
+        // a sin + b cos = m cos(theta - tm); lowest at theta0 = tm + pi
+        let tm = a.atan2(b);
+        let theta0 = wrap(tm + std::f64::consts::PI);
+        let c = -s / m; // need cos(theta - theta0) >= c
+        if c > 1.0 {
+            return None;
+        }
+        Some((theta0, c.max(-1.0).acos()))
+    }
+}
+
+/// Wraps an angle into (-pi, pi].
+pub fn wrap(a: f64) -> f64 {
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let w = (a + std::f64::consts::PI).rem_euclid(two_pi) - std::f64::consts::PI;
+    if w <= -std::f64::consts::PI {
+        w + two_pi
+    } else {
+        w
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn disc(pose: Pose) -> PosedDisc {
+        PosedDisc::new(&CutterParams::default(), &pose)
+    }
+
+    #[test]
+    fn upright_lower_boundary_is_the_rim_circle() {
+        let d = disc(Pose::new(1.0, 2.0, 0.5, 0.0, 0.0, 0.0));
+        let (z, f) = d.lower_boundary(1.0, 2.0).unwrap();
+        assert!((z - (0.5 - 0.2159)).abs() < 1e-12);
+        assert_eq!(f, Face::Rim { y: 0.0 });
+        let (z, _) = d.lower_boundary(1.03, 2.004).unwrap();
+        let rho = d.rho(0.004);
+        assert!((z - (0.5 - (rho * rho - 0.03f64.powi(2)).sqrt())).abs() < 1e-12);
+        assert!(d.lower_boundary(1.0, 2.0066).is_none());
+        assert!(d.lower_boundary(1.3, 2.0).is_none());
+    }
+
+    #[test]
+    fn general_solver_agrees_with_closed_form_and_finds_side_faces() {
+        // a tiny roll forces the general path; it must agree with the upright answer
+        let up = disc(Pose::new(0.0, 0.0, 0.3, 0.0, 0.0, 0.0));
+        let tilt = disc(Pose::new(0.0, 0.0, 0.3, 0.0, 0.0, 1e-9));
+        for &(x, y) in &[(0.0, 0.0), (0.05, 0.003), (-0.1, -0.006)] {
+            let a = up.lower_boundary(x, y).unwrap().0;
+            let b = tilt.lower_boundary(x, y).unwrap().0;
+            assert!((a - b).abs() < 1e-8, "{a} {b}");
+        }
+        // rolled 60 deg: beside the tip the lowest point of a vertical line is on a side face
+        let r60 = disc(Pose::new(0.0, 0.0, 0.3, 0.0, 0.0, 60f64.to_radians()));
+        // the face y_local = +T/2 faces down-and-sideways: with roll +60 the axle
+        // y points up and towards +y, so the lower face is y_local = -T/2 on the -y side
+        let (_, f) = r60.lower_boundary(0.0, -0.05).unwrap();
+        assert_eq!(f, Face::Side(-1));
+        // a point on that face is at height consistent with the plane of the face
+        let (z, _) = r60.lower_boundary(0.0, -0.05).unwrap();
+        let q = r60.rot.transpose() * (Vector3::new(0.0, -0.05, z) - r60.centre);
+        assert!((q.y + 0.0065).abs() < 1e-9, "{q}");
+    }
+
+    #[test]
+    fn arc_below_matches_the_contact_angle_of_an_upright_disc() {
+        let d = disc(Pose::new(0.0, 0.0, 0.2159 - 0.0038, 0.0, 0.0, 0.0));
+        let (t0, dt) = d.arc_below(0.0, 0.2159, 0.0).unwrap();
+        assert!(t0.abs() < 1e-12);
+        assert!((dt - 0.187897).abs() < 1e-6);
+        let bb = d.footprint_below(0.0).unwrap();
+        assert!(
+            (bb[1] - 0.2159 * dt.sin()).abs() < 1e-9 && (bb[0] + 0.2159 * dt.sin()).abs() < 1e-9
+        );
+        assert!((bb[3] - 0.0065).abs() < 1e-12);
+    }
+}

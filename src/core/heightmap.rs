@@ -1,0 +1,309 @@
+//! The rock face: a rectangular height map (thesis ch. 5), each cell split
+//! into two triangles along its (0,0)-(1,1) diagonal, heights and slopes
+//! interpolated linearly inside a triangle (eqs 18-32).
+//!
+//! Storage follows what a scene touches, not the extent of the face: nodes
+//! live in square tiles of [`TILE`] x [`TILE`] that are allocated on the first
+//! write; an untouched tile reads as the flat initial face `z0`. The tile
+//! directory is a dense vector of `Option<Box<Tile>>` (8 bytes a tile), so a
+//! 10 m x 10 m face at 1 mm cells costs 0.8 MB before anything is cut.
+
+/// Nodes along each side of a tile.
+pub const TILE: usize = 32;
+const TILE_NODES: usize = TILE * TILE;
+
+/// Height returned outside the map: there is no rock there.
+pub const NO_ROCK: f64 = f64::NEG_INFINITY;
+
+#[derive(Debug, Clone, PartialEq)]
+struct Tile {
+    z: Box<[f64; TILE_NODES]>,
+    /// An upper bound of the heights in the tile (cuts only lower nodes, so
+    /// it is kept exact on writes that raise and conservative on cuts).
+    z_max: f64,
+}
+
+/// Grid geometry of the height map.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Grid {
+    pub x_min: f64,
+    pub y_min: f64,
+    pub dx: f64,
+    pub dy: f64,
+    pub nx: usize,
+    pub ny: usize,
+}
+
+impl Grid {
+    pub fn new(x_min: f64, x_max: f64, y_min: f64, y_max: f64, nx: usize, ny: usize) -> Self {
+        Self {
+            x_min,
+            y_min,
+            dx: (x_max - x_min) / (nx - 1) as f64,
+            dy: (y_max - y_min) / (ny - 1) as f64,
+            nx,
+            ny,
+        }
+    }
+
+    pub fn x_max(&self) -> f64 {
+        self.x_min + self.dx * (self.nx - 1) as f64
+    }
+
+    pub fn y_max(&self) -> f64 {
+        self.y_min + self.dy * (self.ny - 1) as f64
+    }
+
+    /// Coordinates of node `(i, j)` (0-based; eqs 67-68).
+    #[inline]
+    pub fn node_xy(&self, i: usize, j: usize) -> (f64, f64) {
+        (
+            self.x_min + self.dx * i as f64,
+            self.y_min + self.dy * j as f64,
+        )
+    }
+
+    /// Range of node indices whose coordinates lie in `[lo, hi]`, clipped to the grid.
+    pub fn node_range(
+        &self,
+        x_lo: f64,
+        x_hi: f64,
+        y_lo: f64,
+        y_hi: f64,
+    ) -> Option<(usize, usize, usize, usize)> {
+        let i0 = ((x_lo - self.x_min) / self.dx).ceil().max(0.0);
+        let i1 = ((x_hi - self.x_min) / self.dx)
+            .floor()
+            .min((self.nx - 1) as f64);
+        let j0 = ((y_lo - self.y_min) / self.dy).ceil().max(0.0);
+        let j1 = ((y_hi - self.y_min) / self.dy)
+            .floor()
+            .min((self.ny - 1) as f64);
+        if !(i0 <= i1 && j0 <= j1) {
+            return None;
+        }
+        Some((i0 as usize, i1 as usize, j0 as usize, j1 as usize))
+    }
+
+    /// Area a node stands for (one cell).
+    pub fn cell_area(&self) -> f64 {
+        self.dx * self.dy
+    }
+}
+
+/// The height map: grid, the flat base height and the tiles written so far.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightMap {
+    grid: Grid,
+    z0: f64,
+    tiles_x: usize,
+    tiles_y: usize,
+    tiles: Vec<Option<Tile>>,
+}
+
+/// A point query on the surface: height and slopes of the triangle (eqs 27-32).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    pub z: f64,
+    pub dzdx: f64,
+    pub dzdy: f64,
+}
+
+impl HeightMap {
+    /// A flat face at height `z0`; allocates only the tile directory.
+    pub fn flat(grid: Grid, z0: f64) -> Self {
+        let tiles_x = grid.nx.div_ceil(TILE);
+        let tiles_y = grid.ny.div_ceil(TILE);
+        Self {
+            grid,
+            z0,
+            tiles_x,
+            tiles_y,
+            tiles: vec![None; tiles_x * tiles_y],
+        }
+    }
+
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    pub fn base_height(&self) -> f64 {
+        self.z0
+    }
+
+    /// Number of tiles allocated (touched) so far.
+    pub fn allocated_tiles(&self) -> usize {
+        self.tiles.iter().filter(|t| t.is_some()).count()
+    }
+
+    /// Bytes held by the map (directory plus allocated tiles).
+    pub fn memory_bytes(&self) -> usize {
+        self.tiles.len() * std::mem::size_of::<Option<Tile>>()
+            + self.allocated_tiles() * std::mem::size_of::<[f64; TILE_NODES]>()
+    }
+
+    #[inline]
+    fn tile_index(&self, i: usize, j: usize) -> (usize, usize) {
+        (
+            (j / TILE) * self.tiles_x + i / TILE,
+            (j % TILE) * TILE + i % TILE,
+        )
+    }
+
+    /// Height of node `(i, j)` (0-based, must be inside the grid).
+    #[inline]
+    pub fn node(&self, i: usize, j: usize) -> f64 {
+        let (t, k) = self.tile_index(i, j);
+        match &self.tiles[t] {
+            Some(tile) => tile.z[k],
+            None => self.z0,
+        }
+    }
+
+    /// Sets node `(i, j)`, allocating its tile on first write.
+    pub fn set_node(&mut self, i: usize, j: usize, z: f64) {
+        let (t, k) = self.tile_index(i, j);
+        let z0 = self.z0;
+        let tile = self.tiles[t].get_or_insert_with(|| Tile {
+            z: Box::new([z0; TILE_NODES]),
+            z_max: z0,
+        });
+        tile.z[k] = z;
+        if z > tile.z_max {
+            tile.z_max = z;
+        }
+    }
+
+    /// An upper bound of the node heights with indices in the given ranges.
+    pub fn max_height(&self, i0: usize, i1: usize, j0: usize, j1: usize) -> f64 {
+        let mut m = NO_ROCK;
+        for tj in j0 / TILE..=j1 / TILE {
+            for ti in i0 / TILE..=i1 / TILE {
+                let h = match &self.tiles[tj * self.tiles_x + ti] {
+                    Some(tile) => tile.z_max,
+                    None => self.z0,
+                };
+                m = m.max(h);
+            }
+        }
+        m
+    }
+
+    /// Surface height and slope at `(x, y)`, or `None` outside the map.
+    /// Lower triangle (`xx1/dx >= yy1/dy`): nodes (0,0), (1,0), (1,1);
+    /// upper triangle: (0,0), (0,1), (1,1) — thesis eqs 27-32, with the
+    /// lower/upper test written on normalised cell coordinates.
+    #[inline]
+    pub fn point(&self, x: f64, y: f64) -> Option<SurfacePoint> {
+        let g = &self.grid;
+        let u = (x - g.x_min) / g.dx;
+        let v = (y - g.y_min) / g.dy;
+        let (nxm, nym) = ((g.nx - 1) as f64, (g.ny - 1) as f64);
+        if !(u >= 0.0 && v >= 0.0 && u <= nxm && v <= nym) {
+            return None;
+        }
+        let i = (u.floor() as usize).min(g.nx - 2);
+        let j = (v.floor() as usize).min(g.ny - 2);
+        let (fu, fv) = (u - i as f64, v - j as f64);
+        let z00 = self.node(i, j);
+        let z11 = self.node(i + 1, j + 1);
+        let (dzdx, dzdy) = if fu >= fv {
+            let z10 = self.node(i + 1, j);
+            ((z10 - z00) / g.dx, (z11 - z10) / g.dy)
+        } else {
+            let z01 = self.node(i, j + 1);
+            ((z11 - z01) / g.dx, (z01 - z00) / g.dy)
+        };
+        Some(SurfacePoint {
+            z: z00 + dzdx * fu * g.dx + dzdy * fv * g.dy,
+            dzdx,
+            dzdy,
+        })
+    }
+
+    /// Surface height at `(x, y)`, [`NO_ROCK`] outside the map.
+    #[inline]
+    pub fn height(&self, x: f64, y: f64) -> f64 {
+        self.point(x, y).map_or(NO_ROCK, |p| p.z)
+    }
+
+    /// Indices of the tiles written so far, with their heights (row-major
+    /// inside a tile; nodes past the grid edge hold `z0`).
+    pub fn touched_tiles(&self) -> impl Iterator<Item = (usize, &[f64])> {
+        self.tiles
+            .iter()
+            .enumerate()
+            .filter_map(|(k, t)| t.as_ref().map(|t| (k, &t.z[..])))
+    }
+
+    pub fn tile_count(&self) -> usize {
+        self.tiles.len()
+    }
+
+    /// Restores a tile written by [`HeightMap::touched_tiles`].
+    pub fn load_tile(&mut self, k: usize, z: &[f64]) -> Option<()> {
+        if k >= self.tiles.len() || z.len() != TILE_NODES {
+            return None;
+        }
+        let mut zt = Box::new([0.0; TILE_NODES]);
+        zt.copy_from_slice(z);
+        let z_max = zt.iter().copied().fold(NO_ROCK, f64::max);
+        self.tiles[k] = Some(Tile { z: zt, z_max });
+        Some(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn small() -> HeightMap {
+        HeightMap::flat(Grid::new(0.0, 1.0, 0.0, 2.0, 11, 21), 0.5)
+    }
+
+    #[test]
+    fn flat_face_reads_z0_everywhere_and_nothing_outside() {
+        let m = small();
+        assert_eq!(m.height(0.37, 1.21), 0.5);
+        assert_eq!(m.height(1.0, 2.0), 0.5);
+        assert_eq!(m.height(-1e-9, 1.0), NO_ROCK);
+        assert_eq!(m.height(0.5, 2.0 + 1e-9), NO_ROCK);
+        assert_eq!(m.allocated_tiles(), 0);
+    }
+
+    #[test]
+    fn triangles_interpolate_a_plane_exactly_and_split_on_the_diagonal() {
+        let mut m = small();
+        // plane z = 2x - 3y + 1 is reproduced exactly by both triangles
+        for i in 0..11 {
+            for j in 0..21 {
+                let (x, y) = m.grid().node_xy(i, j);
+                m.set_node(i, j, 2.0 * x - 3.0 * y + 1.0);
+            }
+        }
+        for &(x, y) in &[(0.33, 0.71), (0.36, 0.72), (0.99, 1.99), (0.0, 0.0)] {
+            let p = m.point(x, y).unwrap();
+            assert!((p.z - (2.0 * x - 3.0 * y + 1.0)).abs() < 1e-12);
+            assert!((p.dzdx - 2.0).abs() < 1e-9 && (p.dzdy + 3.0).abs() < 1e-9);
+        }
+        // one raised node (1,1) of cell (0..1,0..1): lower triangle (fu > fv)
+        // uses nodes (0,0),(1,0),(1,1); upper uses (0,0),(0,1),(1,1)
+        let mut m = small();
+        m.set_node(1, 0, 1.5); // only in the lower triangle
+        let lower = m.height(0.08, 0.02); // fu = 0.8, fv = 0.2
+        let upper = m.height(0.02, 0.08); // fu = 0.2, fv = 0.8
+        assert!((lower - (0.5 + 1.0 * (0.8 - 0.2))).abs() < 1e-12, "{lower}");
+        assert_eq!(upper, 0.5);
+    }
+
+    #[test]
+    fn writes_allocate_only_their_tile() {
+        let mut m = HeightMap::flat(Grid::new(0.0, 10.0, 0.0, 10.0, 10_001, 10_001), 0.0);
+        assert!(m.memory_bytes() < 2_000_000, "{}", m.memory_bytes());
+        m.set_node(5000, 5000, -0.001);
+        assert_eq!(m.allocated_tiles(), 1);
+        assert_eq!(m.node(5000, 5000), -0.001);
+        assert_eq!(m.node(5001, 5000), 0.0);
+        assert!(m.max_height(4990, 5010, 4990, 5010) >= 0.0);
+    }
+}

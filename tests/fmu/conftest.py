@@ -1,0 +1,113 @@
+"""Fixtures of the black-box harness against kerf.fmu.
+
+The FMU is built once per session with `cargo run --release -p packaging`
+unless KERF_FMU points at an existing file (scripts/test sets it after its own
+packaging step).  Helpers live in tools/kerfhost.py (on pythonpath, pytest.ini).
+"""
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import kerfhost as kh
+
+H = 1e-3  # communication step [s] = 1 mm of travel at 1 m/s
+
+
+@pytest.fixture(scope="session")
+def fmu_path() -> Path:
+    env = os.environ.get("KERF_FMU")
+    if env:
+        p = Path(env).resolve()
+        if not p.is_file():
+            pytest.exit(f"KERF_FMU={env} does not exist", returncode=2)
+        return p
+    return kh.build_fmu()
+
+
+@pytest.fixture(scope="session")
+def fmu(fmu_path) -> kh.FMU:
+    """The extracted FMU and its model description (one extraction per session)."""
+    return kh.FMU(fmu_path)
+
+
+@pytest.fixture
+def make(fmu):
+    """Factory for instances that are freed at teardown: make("CS"|"ME", name=...)."""
+    made = []
+
+    def _make(kind="CS", name="kerf", logging_on=True):
+        inst = fmu.instance(kind, name=name, logging_on=logging_on)
+        made.append(inst)
+        return inst
+
+    yield _make
+    for inst in made:
+        try:
+            inst.free(terminate=False)
+        except Exception:
+            pass
+
+
+@pytest.fixture(scope="session")
+def cs_reference(fmu):
+    """The reference cut in CS (default parameters, 1000 steps of 1 mm), run once."""
+    inst = fmu.instance("CS", name="cs-reference")
+    try:
+        return kh.run_line_cs(inst, n_steps=1000, h=H)
+    finally:
+        inst.free()
+
+
+@pytest.fixture(scope="session")
+def theory():
+    ref = kh.REFERENCE
+    th = kh.csm_theory(ref["R"], ref["T"], ref["ucs"], ref["bts"], ref["S"], ref["C"], ref["p"])
+    kh.check_theory_against_notes(th)
+    return th
+
+
+# --------------------------------------------------------------------------- helpers
+
+def start_line(inst, start_values=None, n=0, h=H):
+    """Initialise `inst` (CS) for the reference cut and take n steps; returns t."""
+    fixed, _ = kh.line_inputs(inst.fmu_file, start_values)
+    inst.initialize(start_values, inputs=dict(fixed, x=0.0))
+    steps(inst, 0.0, n, h)
+    return n * h
+
+
+ALL = kh.REAL_OUTPUTS
+
+
+def steps(inst, t, n, h=H, v=1.0):
+    """n CS steps of the line cut from time t (host feeds x = v t); outputs after each step
+    as an (n, len(ALL)) array, plus inContact as a last column (0/1)."""
+    rows = []
+    for k in range(n):
+        tk = t + k * h
+        inst.set_reals(["x"], [v * tk])
+        inst.f.doStep(currentCommunicationPoint=tk, communicationStepSize=h)
+        rows.append(list(inst.get_reals(ALL)) + [float(inst.get("inContact"))])
+    return np.array(rows, dtype=float).reshape(n, len(ALL) + 1)
+
+
+def col(name):
+    return ALL.index(name)
+
+
+def error_messages(inst):
+    return [r.message for r in inst.errors()]
+
+
+def assert_error_logged(inst, *needles, before=0):
+    """An fmi2Error-level message was logged (after log index `before`) containing every needle."""
+    msgs = [r.message for r in inst.log[before:] if r.status >= kh.FMI2_ERROR]
+    assert msgs, "fmi2Error returned but nothing was logged with status Error " \
+                 f"(log: {[str(r) for r in inst.log[before:]]})"
+    for n in needles:
+        assert any(n.lower() in m.lower() for m in msgs), \
+            f"no error message mentions {n!r}; messages: {msgs}"
+    return msgs

@@ -1,1 +1,196 @@
-fn main() {}
+//! `cargo run --release -p packaging`: builds the kerf cdylib in release mode
+//! and writes `target/fmu/kerf.fmu`:
+//!
+//! ```text
+//! modelDescription.xml
+//! binaries/linux64/kerf.so          (target/release/libkerf.so)
+//! documentation/index.html          (packaging/doc/index.html + variable table from the XML)
+//! resources/README.txt              (packaging/resources/README.txt)
+//! ```
+//!
+//! The archive is deterministic: fixed entry order, timestamps and permissions.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+use zip::write::SimpleFileOptions;
+use zip::{CompressionMethod, DateTime, ZipWriter};
+
+type Res<T> = Result<T, String>;
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(path) => {
+            println!("{}", path.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("packaging: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn read(path: &Path) -> Res<Vec<u8>> {
+    std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))
+}
+
+fn run() -> Res<PathBuf> {
+    let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let root = here
+        .parent()
+        .ok_or("packaging has no parent directory")?
+        .to_path_buf();
+    if !root.join("modelDescription/modelDescription.xml").is_file() {
+        return Err(format!("{} is not the kerf workspace root", root.display()));
+    }
+
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = Command::new(&cargo)
+        .current_dir(&root)
+        .args(["build", "--release", "--lib", "-p", "kerf"])
+        .status()
+        .map_err(|e| format!("cannot run {}: {e}", cargo.to_string_lossy()))?;
+    if !status.success() {
+        return Err(format!("cargo build --release --lib failed ({status})"));
+    }
+
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target"));
+    let target = if target.is_relative() {
+        root.join(target)
+    } else {
+        target
+    };
+    let so = read(&target.join("release/libkerf.so"))?;
+    let xml_bytes = read(&root.join("modelDescription/modelDescription.xml"))?;
+    let xml =
+        String::from_utf8(xml_bytes.clone()).map_err(|_| "modelDescription.xml is not UTF-8")?;
+    let template = String::from_utf8(read(&here.join("doc/index.html"))?)
+        .map_err(|_| "index.html is not UTF-8")?;
+    if !template.contains("<!--VARIABLES-->") {
+        return Err("packaging/doc/index.html lacks the <!--VARIABLES--> marker".into());
+    }
+    let html = template.replace("<!--VARIABLES-->", &variable_table(&xml)?);
+    let readme = read(&here.join("resources/README.txt"))?;
+
+    let out_dir = target.join("fmu");
+    std::fs::create_dir_all(&out_dir)
+        .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
+    let out = out_dir.join("kerf.fmu");
+    let tmp = out_dir.join("kerf.fmu.tmp");
+    let file =
+        std::fs::File::create(&tmp).map_err(|e| format!("cannot create {}: {e}", tmp.display()))?;
+
+    let mut zip = ZipWriter::new(file);
+    let opts = |mode: u32| {
+        SimpleFileOptions::default()
+            .compression_method(CompressionMethod::Deflated)
+            .last_modified_time(DateTime::default())
+            .unix_permissions(mode)
+    };
+    let z = |e: zip::result::ZipError| format!("writing {}: {e}", tmp.display());
+    for dir in [
+        "binaries/",
+        "binaries/linux64/",
+        "documentation/",
+        "resources/",
+    ] {
+        zip.add_directory(dir, opts(0o755)).map_err(z)?;
+    }
+    let entries: [(&str, &[u8], u32); 4] = [
+        ("modelDescription.xml", &xml_bytes, 0o644),
+        ("binaries/linux64/kerf.so", &so, 0o755),
+        ("documentation/index.html", html.as_bytes(), 0o644),
+        ("resources/README.txt", &readme, 0o644),
+    ];
+    for (name, data, mode) in entries {
+        zip.start_file(name, opts(mode)).map_err(z)?;
+        zip.write_all(data)
+            .map_err(|e| format!("writing {}: {e}", tmp.display()))?;
+    }
+    zip.finish().map_err(z)?;
+    std::fs::rename(&tmp, &out)
+        .map_err(|e| format!("cannot move {} to {}: {e}", tmp.display(), out.display()))?;
+    Ok(out)
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// One HTML table of every variable of modelDescription.xml.
+fn variable_table(xml: &str) -> Res<String> {
+    let doc = roxmltree::Document::parse(xml).map_err(|e| format!("modelDescription.xml: {e}"))?;
+    let mut enums = std::collections::HashMap::new();
+    for st in doc.descendants().filter(|n| n.has_tag_name("SimpleType")) {
+        let items: Vec<String> = st
+            .descendants()
+            .filter(|n| n.has_tag_name("Item"))
+            .map(|i| {
+                format!(
+                    "{} = {}",
+                    i.attribute("value").unwrap_or("?"),
+                    i.attribute("name").unwrap_or("?")
+                )
+            })
+            .collect();
+        enums.insert(
+            st.attribute("name").unwrap_or("").to_string(),
+            items.join(", "),
+        );
+    }
+    let mut rows = String::new();
+    for causality in ["input", "output", "parameter"] {
+        rows.push_str(&format!("<h3>{causality}s</h3>\n<table>\n<tr><th>name</th><th>type</th><th>unit</th><th>start / default</th><th>range</th><th>description</th></tr>\n"));
+        for sv in doc
+            .descendants()
+            .filter(|n| n.has_tag_name("ScalarVariable"))
+        {
+            if sv.attribute("causality").unwrap_or("local") != causality {
+                continue;
+            }
+            let ty = sv
+                .children()
+                .find(|n| n.is_element())
+                .ok_or("a variable without a type")?;
+            let mut type_name = ty.tag_name().name().to_string();
+            if let Some(t) = ty.attribute("declaredType") {
+                type_name = format!(
+                    "{type_name} {t} ({})",
+                    enums.get(t).cloned().unwrap_or_default()
+                );
+            }
+            let unit = match (ty.attribute("unit"), ty.attribute("displayUnit")) {
+                (Some(u), Some(d)) => format!("{u} (display {d})"),
+                (Some(u), None) => u.to_string(),
+                _ => String::new(),
+            };
+            let start = match ty.attribute("start") {
+                Some("") => "\"\"".to_string(),
+                Some(s) => s.to_string(),
+                None => "(calculated)".to_string(),
+            };
+            let range = match (ty.attribute("min"), ty.attribute("max")) {
+                (None, None) => String::new(),
+                (lo, hi) => format!("[{}, {}]", lo.unwrap_or("-inf"), hi.unwrap_or("inf")),
+            };
+            rows.push_str(&format!(
+                "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                escape(sv.attribute("name").unwrap_or("")),
+                escape(&type_name),
+                escape(&unit),
+                escape(&start),
+                escape(&range),
+                escape(sv.attribute("description").unwrap_or("")),
+            ));
+        }
+        rows.push_str("</table>\n");
+    }
+    Ok(rows)
+}

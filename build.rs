@@ -174,7 +174,18 @@ fn main() {
 
     let text = std::fs::read_to_string(&xml_path)
         .unwrap_or_else(|e| fail(format!("cannot read {}: {e}", xml_path.display())));
-    let doc = roxmltree::Document::parse(&text)
+    std::fs::write(
+        PathBuf::from(std::env::var("OUT_DIR").unwrap()).join("model_description.rs"),
+        check_and_generate(&text),
+    )
+    .expect("cannot write model_description.rs into OUT_DIR");
+}
+
+/// Checks modelDescription.xml (panics with a message naming the problem) and
+/// returns the generated Rust. Separate from `main` so that
+/// `tests/fmi_build_checks.rs` can feed it broken descriptions.
+pub fn check_and_generate(text: &str) -> String {
+    let doc = roxmltree::Document::parse(text)
         .unwrap_or_else(|e| fail(format!("not well-formed XML: {e}")));
     let md = doc.root_element();
     if md.tag_name().name() != "fmiModelDescription" {
@@ -426,11 +437,7 @@ fn main() {
 
     check_structure(md, &vars);
 
-    std::fs::write(
-        PathBuf::from(std::env::var("OUT_DIR").unwrap()).join("model_description.rs"),
-        generate(guid, &categories, &vars, &enums),
-    )
-    .expect("cannot write model_description.rs into OUT_DIR");
+    generate(guid, &categories, &vars, &enums)
 }
 
 fn check_variable(

@@ -8,7 +8,8 @@
 //! Each test uses its own instance names, so tests can run in parallel.
 //!
 //! Included by the other `fmi_*.rs` tests with `#[path]`; it has no tests itself.
-#![allow(dead_code)]
+// FMU states are opaque handles made by the FMU; the helpers pass them on.
+#![allow(dead_code, clippy::not_unsafe_ptr_arg_deref)]
 
 use std::ffi::{c_char, CStr, CString};
 use std::ptr;
@@ -236,8 +237,10 @@ impl Fmu {
         unsafe { f::fmi2EnterContinuousTimeMode(self.c) }
     }
     pub fn new_discrete_states(&self) -> (fmi2Status, fmi2EventInfo) {
-        let mut e = fmi2EventInfo::default();
-        e.newDiscreteStatesNeeded = 7;
+        let mut e = fmi2EventInfo {
+            newDiscreteStatesNeeded: 7,
+            ..Default::default()
+        };
         let s = unsafe { f::fmi2NewDiscreteStates(self.c, &mut e) };
         (s, e)
     }

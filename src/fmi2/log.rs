@@ -132,3 +132,21 @@ pub fn guarded<R>(f: impl FnOnce() -> R) -> Result<R, String> {
             })
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_becomes_an_error_message() {
+        let r = guarded(|| -> u32 { panic!("boom {}", 42) });
+        let msg = r.unwrap_err();
+        assert!(msg.contains("boom 42"), "{msg}");
+        assert!(msg.contains("log.rs"), "the location is kept: {msg}");
+        assert_eq!(guarded(|| 7), Ok(7));
+        // Nested guards (a host logger calling back into the FMU) keep working.
+        let r = guarded(|| guarded(|| -> u32 { panic!("inner") }).unwrap_err());
+        assert!(r.unwrap().contains("inner"));
+        assert_eq!(IN_FMI.with(Cell::get), 0);
+    }
+}

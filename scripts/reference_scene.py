@@ -98,28 +98,42 @@ def plot_forces(path, theory, results, n_steps, h):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(3, 1, figsize=(10, 9.5), sharex=True, constrained_layout=True)
-    spec = [("normalForce", "Normal force $F_N$ (cutter +z)", theory["FN"], 0),
-            ("rollingForce", "Rolling force $F_R$ (cutter -x)", theory["FR"], 1),
-            ("sideForce", "Side force $F_S$ (cutter +y)", 0.0, 2)]
-    styles = {1: dict(color="C0", lw=1.4), 2: dict(color="C1", lw=1.0, alpha=0.85)}
-    for ax, (name, title, th, col) in zip(axes, spec):
-        ax.axvspan(LO, HI, color="0.93", zorder=0, label=f"steady window {LO}-{HI} m")
+    fig, axes = plt.subplots(3, 2, figsize=(13, 10), sharex="col", constrained_layout=True,
+                             gridspec_kw=dict(width_ratios=[1.5, 1.0]))
+    spec = [("normalForce", "Normal force $F_N$ (along cutter +z)", theory["FN"], 0),
+            ("rollingForce", "Rolling force $F_R$ (along cutter -x)", theory["FR"], 1),
+            ("sideForce", "Side force $F_S$ (along cutter +y)", 0.0, 2)]
+    styles = {1: dict(color="C0", lw=1.6), 2: dict(color="C1", lw=1.2)}
+    handles = {}
+    for row, (name, title, th, col) in enumerate(spec):
+        full, zoom = axes[row]
+        full.axvspan(LO, HI, color="0.92", zorder=0)
+        zoom.set_facecolor("0.97")
         for rule, (label, res) in results.items():
-            ax.plot(res["x"], res[name] / 1e3, label=label, **styles[rule])
-        ax.axhline(th / 1e3, color="k", ls="--", lw=1.2,
-                   label=f"CSM theory {th / 1e3:.2f} kN" if name != "sideForce" else "CSM theory 0 kN")
+            for ax in (full, zoom):
+                sel = slice(None) if ax is full else (res["x"] >= LO) & (res["x"] <= HI)
+                handles[label] = ax.plot(res["x"][sel], res[name][sel] / 1e3, **styles[rule])[0]
+        for ax in (full, zoom):
+            handles["CSM theory, eqs 13-17 (side: 0)"] = ax.axhline(th / 1e3, color="k", ls="--", lw=1.3)
         for (tname, vals), c in zip(list(kh.TABLE3.items())[1:], ("C2", "C3")):
             if vals[col] is not None:
-                ax.axhline(vals[col], color=c, ls=":", lw=1.2,
-                           label=f"{tname.split(' (')[0].split(',')[0]} {vals[col]:.1f} kN (Table 3)")
-        ax.set_ylabel(f"{title.split(' (')[0]} [kN]")
-        ax.set_title(title, fontsize=10, loc="left")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8, loc="best", ncol=2)
-    axes[-1].set_xlabel("travel x of the disc centre [m]  (time [s] = x / 1 m/s)")
-    fig.suptitle("kerf: thesis reference cut, 17 in disc, p = 3.8 mm, 1 m/s, UCS 158 MPa, "
-                 f"CS step {h * 1e3:g} ms", fontsize=11)
+                handles[tname] = full.axhline(vals[col], color=c, ls=":", lw=1.5)
+                full.annotate(f"{vals[col]:.1f}", (1.0, vals[col]), xycoords=("axes fraction", "data"),
+                              xytext=(3, 0), textcoords="offset points", va="center", fontsize=8, color=c)
+        zoom.annotate(f"CSM {th / 1e3:.3f}", (1.0, th / 1e3), xycoords=("axes fraction", "data"),
+                      xytext=(-3, 4), textcoords="offset points", ha="right", va="bottom", fontsize=8)
+        full.set_ylabel(f"{title.split(' (')[0].split(' $')[0]} [kN]")
+        full.set_title(title + ": whole cut, with thesis Table 3", fontsize=10, loc="left")
+        zoom.set_title(f"zoom: steady window {LO}-{HI} m", fontsize=10, loc="left")
+        for ax in (full, zoom):
+            ax.grid(True, alpha=0.3)
+        zoom.ticklabel_format(axis="y", useOffset=False)
+    handles[f"steady window {LO}-{HI} m (means)"] = plt.Rectangle((0, 0), 1, 1, color="0.92")
+    axes[-1, 0].set_xlabel("travel x of the disc centre [m]   (time [s] = x / (1 m/s))")
+    axes[-1, 1].set_xlabel("travel x [m]")
+    fig.legend(list(handles.values()), list(handles.keys()), loc="outside lower center", ncol=3, fontsize=9)
+    fig.suptitle("kerf, thesis reference cut: 17 in disc (R 215.9 mm, T 13 mm), p = 3.8 mm, "
+                 f"1 m/s rolling, UCS 158 MPa, BTS 6.78 MPa, CS step {h * 1e3:g} ms", fontsize=11)
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -133,15 +147,17 @@ def plot_rock(path, rsf, p, r, T, z0):
     D = (z0 - Z) * 1e3  # depth below the initial face [mm]
     x = X[:, 0]
     y = Y[0, :]
+    dy = (y[1] - y[0]) * 1e3
     dmax = max(float(np.nanmax(D)), 1e-3)
 
-    fig = plt.figure(figsize=(14, 8.5), constrained_layout=True)
-    gs = fig.add_gridspec(2, 3, height_ratios=[1.0, 1.25])
+    fig = plt.figure(figsize=(14, 9), constrained_layout=True)
+    gs = fig.add_gridspec(2, 3, height_ratios=[1.0, 1.3])
     wins = [("start of the cut", -0.08, 0.04), ("middle", 0.44, 0.56), ("end of the cut", 0.96, 1.08)]
     ysel = (y >= -0.025) & (y <= 0.025)
-    im = None
+    im, top = None, []
     for i, (name, xa, xb) in enumerate(wins):
         ax = fig.add_subplot(gs[0, i])
+        top.append(ax)
         xs = (x >= xa) & (x <= xb)
         if xs.sum() < 2 or ysel.sum() < 2:
             ax.text(0.5, 0.5, "window outside the rock", ha="center", transform=ax.transAxes)
@@ -149,41 +165,47 @@ def plot_rock(path, rsf, p, r, T, z0):
         im = ax.pcolormesh(x[xs] * 1e3, y[ysel] * 1e3, D[np.ix_(xs, ysel)].T, shading="nearest",
                            cmap="magma_r", vmin=0.0, vmax=dmax)
         ax.set_aspect("equal")
-        ax.set_title(f"{name}: x {xa:g} .. {xb:g} m", fontsize=10)
+        ax.set_title(f"{name} (plan view)\nx = {xa:g} .. {xb:g} m", fontsize=10)
         ax.set_xlabel("x [mm] (rolling direction)")
         if i == 0:
             ax.set_ylabel("y [mm] (axle)")
     if im is not None:
-        cb = fig.colorbar(im, ax=fig.axes, location="right", shrink=0.9, pad=0.01)
+        cb = fig.colorbar(im, ax=top, location="right", shrink=0.8, pad=0.01)
         cb.set_label("depth below the initial face [mm]")
 
     ax = fig.add_subplot(gs[1, :])
     xs = (x >= LO) & (x <= HI)
     i_mid = int(np.argmin(np.abs(x - 0.5)))
-    ax.fill_between(y * 1e3, np.nanmin(D[xs], axis=0), np.nanmax(D[xs], axis=0), color="C0", alpha=0.2,
-                    step="mid", label=f"kerf: min..max over {LO} m <= x <= {HI} m")
+    ax.fill_between(y * 1e3, np.nanmin(D[xs], axis=0), np.nanmax(D[xs], axis=0), color="C0", alpha=0.25,
+                    step="mid", label=f"kerf: min..max over all node rows {LO} m <= x <= {HI} m")
     ax.plot(y * 1e3, D[i_mid], "o-", color="C0", ms=4, lw=1,
-            label=f"kerf: rock nodes at x = {x[i_mid]:.3f} m")
+            label=f"kerf: rock nodes at x = {x[i_mid]:.3f} m ({dy:g} mm spacing)")
     yy = np.linspace(-T / 2, T / 2, 201)
-    ax.plot(yy * 1e3, kh.tip_depth_profile(yy, r, T, p) * 1e3, "k--", lw=1.5,
-            label=f"tip profile R(y) = R - r + sqrt(r² - y²), r = {r * 1e3:g} mm, |y| <= T/2, at p = {p * 1e3:g} mm")
+    ax.plot(yy * 1e3, kh.tip_depth_profile(yy, r, T, p) * 1e3, "k--", lw=1.6,
+            label=f"disc tip R(y) = R - r + sqrt(r² - y²), r = {r * 1e3:g} mm, |y| <= T/2 = {T * 500:g} mm, "
+                  f"lowest point at p = {p * 1e3:g} mm")
     ax.axhline(p * 1e3, color="0.5", ls=":", lw=1, label=f"p = {p * 1e3:g} mm")
-    ax.set_xlim(-25, 25)
-    ax.set_ylim(max(dmax, p * 1e3) * 1.15, -0.5)
-    ax.set_aspect("equal")
+    groove = D[xs]
+    jc = int(np.argmin(np.abs(y)))
+    ax.text(0.01, 1.02, f"steady groove: centre depth {np.mean(groove[:, jc]):.3f} mm "
+            f"(min {np.min(groove[:, jc]):.3f}, max {np.max(groove[:, jc]):.3f}), "
+            f"width at 0.1 mm depth {np.mean(np.sum(groove > 0.1, axis=1)) * dy:.1f} mm",
+            transform=ax.transAxes, fontsize=9)
+    ax.set_xlim(-16, 16)
+    ax.set_ylim(max(dmax, p * 1e3) * 1.12, -0.3)
+    ax.set_aspect(3.0)
     ax.set_xlabel("y [mm] (across the groove)")
     ax.set_ylabel("depth below the initial face [mm]")
-    ax.set_title("groove cross-section (depth down; equal scales)", fontsize=10, loc="left")
+    ax.set_title("groove cross-section (depth downwards, vertical scale x3)", fontsize=10, loc="left", pad=16)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
-    fig.suptitle(f"kerf: rock face after the reference cut (from {rsf.name}, "
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
+    fig.suptitle(f"kerf: rock face after the reference cut (surface written at fmi2Terminate: {rsf.name}, "
                  f"{X.shape[0]} x {X.shape[1]} nodes)", fontsize=11)
     fig.savefig(path, dpi=110)
     plt.close(fig)
-    groove = D[xs]
     return dict(max_depth_mm=float(np.nanmax(groove)),
-                mean_center_depth_mm=float(np.nanmean(groove[:, int(np.argmin(np.abs(y)))])),
-                groove_width_mm_at_0_1mm=float(np.mean(np.sum(groove > 0.1, axis=1)) * (y[1] - y[0]) * 1e3))
+                mean_center_depth_mm=float(np.mean(groove[:, jc])),
+                groove_width_mm_at_0_1mm=float(np.mean(np.sum(groove > 0.1, axis=1)) * dy))
 
 
 def main(argv=None):

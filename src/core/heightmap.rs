@@ -221,10 +221,62 @@ impl HeightMap {
         })
     }
 
-    /// Surface height at `(x, y)`, [`NO_ROCK`] outside the map.
+    /// The triangle under `(x, y)`: an id unique over the map and its unit
+    /// upward normal (thesis eqs 41-42), or `None` outside the map.
+    pub fn triangle(&self, x: f64, y: f64) -> Option<(u64, [f64; 3])> {
+        let g = &self.grid;
+        let p = self.point(x, y)?;
+        let u = (x - g.x_min) / g.dx;
+        let v = (y - g.y_min) / g.dy;
+        let i = (u.floor() as usize).min(g.nx - 2);
+        let j = (v.floor() as usize).min(g.ny - 2);
+        let lower = (u - i as f64) >= (v - j as f64);
+        let id = ((j * g.nx + i) as u64) * 2 + lower as u64;
+        let n = (p.dzdx * p.dzdx + p.dzdy * p.dzdy + 1.0).sqrt();
+        Some((id, [-p.dzdx / n, -p.dzdy / n, 1.0 / n]))
+    }
+
+    /// Highest of the four nodes of the cell holding `(x, y)`, [`NO_ROCK`]
+    /// outside the map. Symmetric (no diagonal), and on the uncut side of a
+    /// groove's edge it reads the uncut rock that interpolation would blur.
+    #[inline]
+    pub fn cell_max(&self, x: f64, y: f64) -> f64 {
+        let g = &self.grid;
+        let u = (x - g.x_min) / g.dx;
+        let v = (y - g.y_min) / g.dy;
+        if !(u >= 0.0 && v >= 0.0 && u <= (g.nx - 1) as f64 && v <= (g.ny - 1) as f64) {
+            return NO_ROCK;
+        }
+        let i = (u as usize).min(g.nx - 2);
+        let j = (v as usize).min(g.ny - 2);
+        self.node(i, j)
+            .max(self.node(i + 1, j))
+            .max(self.node(i, j + 1))
+            .max(self.node(i + 1, j + 1))
+    }
+
+    /// Surface height at `(x, y)`, [`NO_ROCK`] outside the map (the same
+    /// triangles as [`HeightMap::point`], without the slopes).
     #[inline]
     pub fn height(&self, x: f64, y: f64) -> f64 {
-        self.point(x, y).map_or(NO_ROCK, |p| p.z)
+        let g = &self.grid;
+        let u = (x - g.x_min) / g.dx;
+        let v = (y - g.y_min) / g.dy;
+        if !(u >= 0.0 && v >= 0.0 && u <= (g.nx - 1) as f64 && v <= (g.ny - 1) as f64) {
+            return NO_ROCK;
+        }
+        let i = (u as usize).min(g.nx - 2);
+        let j = (v as usize).min(g.ny - 2);
+        let (fu, fv) = (u - i as f64, v - j as f64);
+        let z00 = self.node(i, j);
+        let z11 = self.node(i + 1, j + 1);
+        if fu >= fv {
+            let z10 = self.node(i + 1, j);
+            z00 + (z10 - z00) * fu + (z11 - z10) * fv
+        } else {
+            let z01 = self.node(i, j + 1);
+            z00 + (z11 - z01) * fu + (z01 - z00) * fv
+        }
     }
 
     /// Indices of the tiles written so far, with their heights (row-major

@@ -1,9 +1,20 @@
-//! PLACEHOLDER: API fixed, physics being written (flat-face closed form only).
+//! The model: parameters, the rock and the bookkeeping, and the three
+//! operations the FMI layer needs (evaluate, commit, advance).
+
+use std::cell::Cell;
+
 use nalgebra::Vector3;
 
+use super::contact_cutter_heightmap::{contact, Contact};
+use super::contact_thesis::contact_thesis;
+use super::csm::CsmLaw;
+use super::cut_cutter_heightmap::{cut, would_cut};
+use super::cutter::PosedDisc;
 use super::error::{KerfError, Result};
-use super::params::Params;
+use super::heightmap::{Grid, HeightMap, TILE};
+use super::params::{DirectionRule, Params};
 use super::pose::{advance_pose, Pose, Twist};
+use super::rsf;
 
 /// Everything the FMU reports, for one pose.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -34,36 +45,141 @@ pub struct Outputs {
 /// The discrete state: what `fmi2GetFMUstate` captures.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelState {
+    map: HeightMap,
     excavated_volume: f64,
     cutting_energy: f64,
 }
 
+const MAGIC: &[u8; 8] = b"KERFCORE";
+const VERSION: u32 = 1;
+
+fn grid_of(params: &Params) -> Grid {
+    let r = &params.rock;
+    Grid::new(r.x_min, r.x_max, r.y_min, r.y_max, r.nx, r.ny)
+}
+
 impl ModelState {
-    /// Versioned binary form (for `fmi2SerializeFMUstate`).
+    /// Versioned little-endian binary form: magic, version, grid, bookkeeping,
+    /// then the touched tiles only.
     pub fn to_bytes(&self) -> Vec<u8> {
-        let mut v = b"KERFST01".to_vec();
-        v.extend_from_slice(&self.excavated_volume.to_le_bytes());
-        v.extend_from_slice(&self.cutting_energy.to_le_bytes());
+        let g = self.map.grid();
+        let tiles: Vec<(usize, &[f64])> = self.map.touched_tiles().collect();
+        let mut v = Vec::with_capacity(96 + tiles.len() * (8 + TILE * TILE * 8));
+        v.extend_from_slice(MAGIC);
+        v.extend_from_slice(&VERSION.to_le_bytes());
+        for n in [g.nx as u64, g.ny as u64] {
+            v.extend_from_slice(&n.to_le_bytes());
+        }
+        for x in [
+            g.x_min,
+            g.y_min,
+            g.dx,
+            g.dy,
+            self.map.base_height(),
+            self.excavated_volume,
+            self.cutting_energy,
+        ] {
+            v.extend_from_slice(&x.to_le_bytes());
+        }
+        v.extend_from_slice(&(tiles.len() as u64).to_le_bytes());
+        for (k, z) in tiles {
+            v.extend_from_slice(&(k as u64).to_le_bytes());
+            for x in z {
+                v.extend_from_slice(&x.to_le_bytes());
+            }
+        }
         v
     }
 
     /// Inverse of [`ModelState::to_bytes`]; rejects corrupt or foreign blobs
     /// and blobs made for another height-map grid.
-    pub fn from_bytes(bytes: &[u8], _params: &Params) -> Result<Self> {
-        if bytes.len() != 24 || &bytes[..8] != b"KERFST01" {
-            return Err(KerfError::BadState("not a kerf state blob".into()));
+    pub fn from_bytes(bytes: &[u8], params: &Params) -> Result<Self> {
+        let bad = |why: &str| KerfError::BadState(why.to_string());
+        let mut pos = 0usize;
+        let mut take = |n: usize| -> Result<&[u8]> {
+            let s = bytes
+                .get(pos..pos + n)
+                .ok_or_else(|| bad("the blob is truncated"))?;
+            pos += n;
+            Ok(s)
+        };
+        if take(8)? != MAGIC {
+            return Err(bad("not a kerf state (wrong magic)"));
         }
-        let f = |i: usize| f64::from_le_bytes(bytes[i..i + 8].try_into().unwrap());
+        let version = u32::from_le_bytes(take(4)?.try_into().unwrap());
+        if version != VERSION {
+            return Err(KerfError::BadState(format!(
+                "state version {version}, this build reads {VERSION}"
+            )));
+        }
+        let mut u64s = [0u64; 2];
+        for u in &mut u64s {
+            *u = u64::from_le_bytes(take(8)?.try_into().unwrap());
+        }
+        let mut f = [0f64; 7];
+        for x in &mut f {
+            *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
+        }
+        let grid = grid_of(params);
+        let same = u64s[0] == grid.nx as u64
+            && u64s[1] == grid.ny as u64
+            && f[0] == grid.x_min
+            && f[1] == grid.y_min
+            && f[2] == grid.dx
+            && f[3] == grid.dy
+            && f[4] == params.rock.z0;
+        if !same {
+            return Err(bad("the state was saved for another rock grid"));
+        }
+        if !(f[5].is_finite() && f[6].is_finite()) {
+            return Err(bad("non-finite bookkeeping"));
+        }
+        let mut map = HeightMap::flat(grid, params.rock.z0);
+        let n = u64::from_le_bytes(take(8)?.try_into().unwrap());
+        if n > map.tile_count() as u64 {
+            return Err(bad("more tiles than the grid has"));
+        }
+        let mut z = vec![0.0; TILE * TILE];
+        for _ in 0..n {
+            let k = u64::from_le_bytes(take(8)?.try_into().unwrap()) as usize;
+            for x in z.iter_mut() {
+                *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
+                if !x.is_finite() {
+                    return Err(bad("non-finite height"));
+                }
+            }
+            map.load_tile(k, &z)
+                .ok_or_else(|| bad("tile index out of range"))?;
+        }
+        if pos != bytes.len() {
+            return Err(bad("trailing bytes"));
+        }
         Ok(Self {
-            excavated_volume: f(8),
-            cutting_energy: f(16),
+            map,
+            excavated_volume: f[5],
+            cutting_energy: f[6],
         })
     }
+
+    pub fn map(&self) -> &HeightMap {
+        &self.map
+    }
+}
+
+/// Friction coefficient at slip speed `v >= 0`: Adams' cubic STEP from `-mu`
+/// at `-vs` to `mu` at `vs` (thesis App. A), read at `|v|`. It is 0 at zero
+/// slip with a finite slope, so `mu(v) v / |v|` stays finite and smooth.
+pub fn friction_coefficient(mu: f64, vs: f64, v: f64) -> f64 {
+    let s = ((v + vs) / (2.0 * vs)).clamp(0.0, 1.0);
+    -mu + 2.0 * mu * s * s * (3.0 - 2.0 * s)
 }
 
 pub struct Model {
     params: Params,
+    law: CsmLaw,
     state: ModelState,
+    /// The last evaluation (pose, twist, outputs); cleared when the rock changes.
+    cache: Cell<Option<(Pose, Twist, Outputs)>>,
 }
 
 impl Model {
@@ -71,12 +187,26 @@ impl Model {
     /// `rock.initial_surface`).
     pub fn new(params: Params) -> Result<Self> {
         params.validate()?;
+        let grid = grid_of(&params);
+        let map = if params.rock.initial_surface.is_empty() {
+            HeightMap::flat(grid, params.rock.z0)
+        } else {
+            rsf::read(
+                std::path::Path::new(&params.rock.initial_surface),
+                grid,
+                params.rock.z0,
+            )?
+        };
+        let law = CsmLaw::new(params.cutter, params.csm, params.numerics.p_reg);
         Ok(Self {
             params,
+            law,
             state: ModelState {
+                map,
                 excavated_volume: 0.0,
                 cutting_energy: 0.0,
             },
+            cache: Cell::new(None),
         })
     }
 
@@ -84,55 +214,178 @@ impl Model {
         &self.params
     }
 
-    /// Warnings about the parameters that are legal but questionable (for the
-    /// FMI logger), e.g. an Ozdemir regression used outside its Table 1 range.
+    pub fn law(&self) -> &CsmLaw {
+        &self.law
+    }
+
+    /// The committed rock.
+    pub fn map(&self) -> &HeightMap {
+        &self.state.map
+    }
+
+    /// Warnings about parameters that are legal but questionable (for the
+    /// FMI logger): an Ozdemir regression outside its Table 1 range.
     pub fn warnings(&self) -> Vec<String> {
-        Vec::new()
+        self.law
+            .range_warnings(0.0038)
+            .into_iter()
+            .filter(|w| !w.contains(": penetration"))
+            .collect()
+    }
+
+    fn disc(&self, pose: &Pose) -> PosedDisc {
+        PosedDisc::new(&self.params.cutter, pose)
+    }
+
+    /// The contact geometry and cutting force (no friction) at `pose`.
+    pub fn contact(&self, pose: &Pose) -> Contact {
+        let disc = self.disc(pose);
+        let n = &self.params.numerics;
+        match n.direction {
+            DirectionRule::Kerf => contact(&self.state.map, &disc, &self.law, n, n.elastic_depth),
+            DirectionRule::Thesis => contact_thesis(&self.state.map, &disc, &self.law, n),
+        }
     }
 
     /// Contact force for `pose`, against the committed rock. Never changes the rock.
     pub fn evaluate(&self, pose: &Pose, twist: &Twist) -> Result<Outputs> {
         pose.validate()?;
         twist.validate()?;
-        let p = (self.params.rock.z0 - (pose.position.z - self.params.cutter.radius)).max(0.0);
-        let mut o = Outputs {
-            penetration: p,
-            in_contact: p > 0.0,
-            ..Default::default()
+        if let Some((p, t, o)) = self.cache.get() {
+            if p == *pose && t == *twist {
+                return Ok(self.with_bookkeeping(o));
+            }
+        }
+        let o = self.compute(pose, twist);
+        self.cache.set(Some((*pose, *twist, o)));
+        Ok(self.with_bookkeeping(o))
+    }
+
+    /// `o` with the current excavated volume, cutting energy and specific energy.
+    fn with_bookkeeping(&self, mut o: Outputs) -> Outputs {
+        let s = &self.state;
+        o.excavated_volume = s.excavated_volume;
+        o.cutting_energy = s.cutting_energy;
+        o.specific_energy = if s.excavated_volume > 0.0 {
+            s.cutting_energy / s.excavated_volume
+        } else {
+            0.0
         };
-        o.excavated_volume = self.state.excavated_volume;
-        o.cutting_energy = self.state.cutting_energy;
-        let _ = Vector3::<f64>::zeros();
-        Ok(o)
+        o
+    }
+
+    fn compute(&self, pose: &Pose, twist: &Twist) -> Outputs {
+        let c = self.contact(pose);
+        let rot = pose.rotation();
+        // friction on the slip of the rim over the rock where the contact is
+        // lowest (kerf) or at the point of force application (thesis eq. 56)
+        let slip_v = twist.velocity + twist.omega.cross(&c.slip_point);
+        let n = c.slip_normal;
+        let v_t = slip_v - n * n.dot(&slip_v);
+        let speed = v_t.norm();
+        let f = &self.params.friction;
+        let friction = if c.in_contact && speed > 0.0 {
+            -v_t * (c.rim_force.norm() * friction_coefficient(f.mu, f.vs, speed) / speed)
+        } else {
+            Vector3::zeros()
+        };
+        let force = c.rim_force + c.side_force + friction;
+        let moment =
+            c.application.cross(&c.rim_force) + c.slip_point.cross(&friction) + c.side_moment;
+        let ex = rot * Vector3::x();
+        let ey = rot * Vector3::y();
+        let ez = rot * Vector3::z();
+        Outputs {
+            force: force.into(),
+            moment: moment.into(),
+            normal_force: force.dot(&ez),
+            rolling_force: -force.dot(&ex),
+            side_force: force.dot(&ey),
+            penetration: c.penetration,
+            contact_angle: c.phi,
+            in_contact: c.in_contact,
+            ..Outputs::default()
+        }
     }
 
     /// Would [`Model::commit`] at `pose` change the rock?
     pub fn cuts(&self, pose: &Pose) -> Result<bool> {
         pose.validate()?;
-        Ok(false)
+        Ok(would_cut(
+            &self.state.map,
+            &self.disc(pose),
+            self.params.numerics.elastic_depth,
+        ))
+    }
+
+    /// Work of the rock force on the cutter over `dt` at `o` (negated: the
+    /// work of the cutter on the rock).
+    fn work(o: &Outputs, twist: &Twist, dt: f64) -> f64 {
+        let f = Vector3::from(o.force);
+        let m = Vector3::from(o.moment);
+        -(f.dot(&twist.velocity) + m.dot(&twist.omega)) * dt
+    }
+
+    fn cut_at(&mut self, pose: &Pose) -> bool {
+        let disc = self.disc(pose);
+        let r = &self.params.rock;
+        let stats = cut(
+            &mut self.state.map,
+            &disc,
+            self.params.numerics.elastic_depth,
+            r.plastic_fraction,
+        );
+        self.state.excavated_volume += stats.volume;
+        if stats.nodes > 0 {
+            self.cache.set(None);
+        }
+        stats.nodes > 0
     }
 
     /// Cuts the rock at `pose` (a Model Exchange event). `dt` is the time since
     /// the previous commit, for the energy bookkeeping. Returns whether the rock changed.
     pub fn commit(&mut self, pose: &Pose, twist: &Twist, dt: f64) -> Result<bool> {
-        pose.validate()?;
-        twist.validate()?;
-        let _ = dt;
-        Ok(false)
+        if !(dt.is_finite() && dt >= 0.0) {
+            return Err(KerfError::BadInput {
+                name: "time since last event",
+                value: dt,
+            });
+        }
+        let o = self.evaluate(pose, twist)?;
+        self.state.cutting_energy += Self::work(&o, twist, dt);
+        Ok(self.cut_at(pose))
     }
 
     /// Moves the cutter from `start` along `twist` for `h` seconds, cutting the
-    /// rock along the whole path (a Co-Simulation step). Returns the end pose.
+    /// rock along the whole path (a Co-Simulation step): the path is cut at
+    /// sub-steps no longer than `numerics.sweep_step` of travel of any rim
+    /// point, so no uncut rock is left however long `h`. The cutting energy
+    /// takes the trapezoidal rule over the step. Returns the end pose.
     pub fn advance(&mut self, start: &Pose, twist: &Twist, h: f64) -> Result<Pose> {
-        start.validate()?;
-        twist.validate()?;
         if !(h.is_finite() && h >= 0.0) {
             return Err(KerfError::BadInput {
                 name: "communicationStepSize",
                 value: h,
             });
         }
-        Ok(advance_pose(start, twist, h))
+        let o0 = self.evaluate(start, twist)?;
+        let rot = start.rotation();
+        let axle = rot * Vector3::y();
+        let w_frame = twist.omega - axle * twist.omega.dot(&axle);
+        let travel = (twist.velocity.norm() + w_frame.norm() * self.params.cutter.radius) * h;
+        let n = (travel / self.params.numerics.sweep_step)
+            .ceil()
+            .clamp(1.0, 1.0e7) as usize;
+        let mut end = *start;
+        for k in 1..=n {
+            end = advance_pose(start, twist, h * k as f64 / n as f64);
+            end.validate()?;
+            self.cut_at(&end);
+        }
+        self.cache.set(None);
+        let o1 = self.evaluate(&end, twist)?;
+        self.state.cutting_energy += 0.5 * (Self::work(&o0, twist, h) + Self::work(&o1, twist, h));
+        Ok(end)
     }
 
     /// A copy of the discrete state.
@@ -140,15 +393,22 @@ impl Model {
         self.state.clone()
     }
 
-    /// Restores a state taken from a model with the same parameters.
+    /// Restores a state taken from a model with the same grid.
     pub fn set_state(&mut self, s: &ModelState) -> Result<()> {
+        if s.map.grid() != self.state.map.grid()
+            || s.map.base_height() != self.state.map.base_height()
+        {
+            return Err(KerfError::BadState(
+                "the state was taken for another rock grid".into(),
+            ));
+        }
         self.state = s.clone();
+        self.cache.set(None);
         Ok(())
     }
 
     /// Writes the committed surface as an `.rsf` file.
     pub fn write_surface(&self, path: &std::path::Path) -> Result<()> {
-        let _ = path;
-        Ok(())
+        rsf::write(path, &self.state.map)
     }
 }

@@ -110,9 +110,9 @@ pub enum DirectionRule {
 pub struct Numerics {
     /// Slices across the tip profile used to find the contact (odd, >= 3).
     pub tip_slices: usize,
-    /// Angular resolution of the contact-arc search along the rim, as a
-    /// fraction of a mesh cell of arc length (the arc ends are then refined
-    /// by bisection to `1e-9` of the radius).
+    /// Step of the contact-arc walk along the rim, in mesh cells of arc
+    /// length (the arc ends are then refined by regula falsi to 1e-9 rad).
+    /// Contact features narrower than this can be stepped over.
     pub arc_step_cells: f64,
     /// Thickness of the elastic layer of the rock \[m\]: the rock yields once
     /// the rim is this far inside it; after a cut the rock keeps touching the
@@ -124,6 +124,8 @@ pub struct Numerics {
     pub p_reg: f64,
     /// Largest travel \[m\] of any rim point between two cuts of a swept
     /// (Co-Simulation) step; longer steps are cut in sub-steps this long.
+    /// A sub-step `s` leaves scallops `(s/2)^2 / (2R)` high (0.58 um at
+    /// 1 mm), inside the elastic layer.
     pub sweep_step: f64,
     /// Direction rule of the cutting force.
     pub direction: DirectionRule,
@@ -196,10 +198,10 @@ impl Default for Numerics {
     fn default() -> Self {
         Self {
             tip_slices: 9,
-            arc_step_cells: 0.5,
+            arc_step_cells: 4.0,
             elastic_depth: 2.0e-6,
             p_reg: 5.0e-5,
-            sweep_step: 5.0e-4,
+            sweep_step: 1.0e-3,
             direction: DirectionRule::Kerf,
         }
     }

@@ -1,0 +1,402 @@
+//! Contact between the posed disc and the height map (thesis ch. 7, extended).
+//!
+//! **Where the rim touches.** The tip is cut into `n` slices across its width
+//! (axle coordinates `y_k` from `-T/2` to `T/2`, `y = 0` included). On each
+//! slice's rim circle the query starts at the lowest point and walks outwards
+//! on both sides, finding the first arc `[a, b]` where the rim is below the
+//! rock; the ends are refined by regula falsi. The whole circle can be
+//! reached, the upper rim included (the thesis searched only the lower half,
+//! its limitation 10.1).
+//!
+//! **The leading edge.** A height map blurs the corner where the groove meets
+//! uncut rock over one cell, so the rim's exit from the rock would be found up
+//! to a cell too early (0.19 mm of depth at 1 mm cells, 5 % of the reference
+//! force). The walk therefore compares the rim with the rock at the sample
+//! and with the highest node of the cell one cell further along the walk
+//! (the node maximum has no diagonal, so it treats +y and -y alike): on a
+//! flat face every slice's exit is then exact.
+//!
+//! **Which arc cuts.** Each side of the lowest point gives an arc of depth
+//! `p+` (towards cutter +x) and `p-`. A rolling cutter cuts with its leading
+//! arc; behind the lowest point the rock was cut by the cutter itself and
+//! carries (almost) nothing (Rostami's rear non-loading zone, thesis 3.2.2).
+//! The arcs of the governing (deepest) slice are blended with weights
+//! `p^4 / (p+^4 + p-^4)`: the leading arc wins, and a cutter at rest in its
+//! own symmetric pit pushes straight up with no jump in between. Slices sit at
+//! the centres of `n` equal strips of the tip, so none lies on the groove wall
+//! that the height map blurs.
+//!
+//! **Force.** CSM gives the magnitude from `p` (eq. 54, the depth of the
+//! governing slice) and its angle `beta = phi / (2 + psi)` from the lowest
+//! point in the rim plane. Across the tip the force leans by the mean of the
+//! tip-profile normals of the slices weighted by their contact arc length,
+//! so a cut beside a groove or a tilted cutter gets the side force its
+//! contact geometry gives, and a symmetric cut gets none.
+//!
+//! **Side faces.** Where a tilted disc's flat face lies in the rock, every
+//! height-map node under it whose vertical meets the face pushes with the CSM
+//! base pressure over its cell along the face normal.
+//!
+//! **Elastic layer.** A cut leaves the rock `elastic_depth` inside the rim
+//! (see `cut_cutter_heightmap`), so a cutter held still keeps its contact.
+//! The force is faded in over that depth (`smoothstep(u_max / elastic_depth)`)
+//! so that lifting the cutter off its groove unloads it smoothly.
+
+use nalgebra::Vector3;
+
+use super::csm::{contact_angle, CsmLaw};
+use super::cutter::{Face, PosedDisc};
+use super::heightmap::HeightMap;
+use super::params::Numerics;
+
+/// One side of one slice: the first contact arc from the lowest point.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Arc {
+    /// Angle where the contact starts (nearest the lowest point) and ends.
+    pub a: f64,
+    pub b: f64,
+    /// World-vertical depth of the arc, `z(b) - z(a)`.
+    pub depth: f64,
+    /// Arc length on the rim.
+    pub length: f64,
+    /// Largest overlap of rock over rim met on the arc.
+    pub u_max: f64,
+}
+
+/// The contact of a posed disc with the rock.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Contact {
+    pub in_contact: bool,
+    /// Penetration `p` (eq. 54) \[m\].
+    pub penetration: f64,
+    /// Contact angle `phi = acos((R - p)/R)`.
+    pub phi: f64,
+    /// Cutting force of the rim on the cutter, rock frame \[N\].
+    pub rim_force: Vector3<f64>,
+    /// Where the rim force acts, offset from the disc centre, rock frame.
+    pub application: Vector3<f64>,
+    /// Lowest point of the contact (offset from the centre) and the rim's
+    /// inward unit normal there, rock frame: where friction reads the slip.
+    pub slip_point: Vector3<f64>,
+    pub slip_normal: Vector3<f64>,
+    /// Force and moment (about the centre) of the side faces, rock frame.
+    pub side_force: Vector3<f64>,
+    pub side_moment: Vector3<f64>,
+}
+
+/// Axle coordinate of slice `k` of `n`: the centre of the k-th of `n` equal
+/// strips across the tip (`n` odd, so the middle slice is `y = 0`).
+#[inline]
+pub fn slice_y(h: f64, n: usize, k: usize) -> f64 {
+    -h + 2.0 * h * (k as f64 + 0.5) / n as f64
+}
+
+#[inline]
+fn smoothstep(s: f64) -> f64 {
+    let s = s.clamp(0.0, 1.0);
+    s * s * (3.0 - 2.0 * s)
+}
+
+/// One rim circle (slice `y`) of a posed disc, parametrised for fast walks:
+/// world point `base + ex * sin(theta) + ez * cos(theta)`.
+struct RimCircle {
+    base: Vector3<f64>,
+    ex: Vector3<f64>,
+    ez: Vector3<f64>,
+}
+
+impl RimCircle {
+    fn new(disc: &PosedDisc, y: f64) -> Self {
+        let rho = disc.rho(y);
+        let r = &disc.rot;
+        Self {
+            base: disc.centre + r.column(1) * y,
+            ex: r.column(0) * rho,
+            ez: r.column(2) * -rho,
+        }
+    }
+
+    /// Rock over rim at the angle with sine `s` and cosine `c`, walking in
+    /// direction `dir`: the rock height (the larger of the height here and the
+    /// highest node of the cell one look-ahead further along the walk) minus
+    /// the rim height.
+    #[inline]
+    fn overlap(&self, map: &HeightMap, s: f64, c: f64, dir: f64, look: f64) -> f64 {
+        let p = self.base + self.ex * s + self.ez * c;
+        let mut rock = map.height(p.x, p.y);
+        // horizontal direction of the walk (d/dtheta of the point)
+        let tx = dir * (self.ex.x * c - self.ez.x * s);
+        let ty = dir * (self.ex.y * c - self.ez.y * s);
+        let n2 = tx * tx + ty * ty;
+        if n2 > 1e-12 * self.ex.norm_squared() {
+            let k = look / n2.sqrt();
+            rock = rock.max(map.cell_max(p.x + k * tx, p.y + k * ty));
+        }
+        rock - p.z
+    }
+
+    fn z(&self, theta: f64) -> f64 {
+        self.base.z + self.ex.z * theta.sin() + self.ez.z * theta.cos()
+    }
+}
+
+/// Refines a sign change of `f` between `t_in` (f > 0) and `t_out` (f <= 0)
+/// by the Illinois variant of regula falsi, to `tol` in the argument.
+fn refine(
+    f: &dyn Fn(f64) -> f64,
+    mut t_in: f64,
+    mut t_out: f64,
+    mut f_in: f64,
+    mut f_out: f64,
+    tol: f64,
+) -> f64 {
+    let mut side = 0;
+    for _ in 0..100 {
+        if (t_in - t_out).abs() < tol {
+            break;
+        }
+        let mut t = t_in - f_in * (t_out - t_in) / (f_out - f_in);
+        if !t.is_finite() || (t - t_in) * (t - t_out) >= 0.0 {
+            t = 0.5 * (t_in + t_out);
+        }
+        let ft = f(t);
+        if ft > 0.0 {
+            t_in = t;
+            f_in = ft;
+            if side == 1 {
+                f_out *= 0.5;
+            }
+            side = 1;
+        } else {
+            t_out = t;
+            f_out = ft;
+            if side == -1 {
+                f_in *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    0.5 * (t_in + t_out)
+}
+
+/// Angular tolerance of the arc ends: 1e-9 of a radian is 0.2 um of rim.
+const ANGLE_TOL: f64 = 1e-9;
+
+/// Walks one side (`dir` = +1 towards cutter +x) of one slice from the lowest
+/// point `theta0` up to `theta0 + dir * reach`, in steps of about `step`.
+#[allow(clippy::too_many_arguments)]
+pub fn walk(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    y: f64,
+    theta0: f64,
+    reach: f64,
+    dir: f64,
+    step: f64,
+    look: f64,
+) -> Option<Arc> {
+    let rim = RimCircle::new(disc, y);
+    let f = |t: f64| {
+        let (s, c) = t.sin_cos();
+        rim.overlap(map, s, c, dir, look)
+    };
+    let n = ((reach / step).ceil() as usize).max(1);
+    let dt = dir * reach / n as f64;
+    let (sd, cd) = dt.sin_cos();
+    let (mut s, mut c) = theta0.sin_cos();
+    let advance = |s: &mut f64, c: &mut f64| {
+        let s1 = *s * cd + *c * sd;
+        *c = *c * cd - *s * sd;
+        *s = s1;
+    };
+    let (mut t_prev, mut u_prev) = (theta0, rim.overlap(map, s, c, dir, look));
+    let mut k = 0;
+    let a = if u_prev > 0.0 {
+        theta0
+    } else {
+        loop {
+            k += 1;
+            if k > n {
+                return None;
+            }
+            advance(&mut s, &mut c);
+            let t = theta0 + dt * k as f64;
+            let u = rim.overlap(map, s, c, dir, look);
+            if u > 0.0 {
+                let a = refine(&f, t, t_prev, u, u_prev, ANGLE_TOL);
+                t_prev = t;
+                u_prev = u;
+                break a;
+            }
+            t_prev = t;
+            u_prev = u;
+        }
+    };
+    let mut u_max = u_prev.max(0.0);
+    let b = loop {
+        k += 1;
+        if k > n {
+            break theta0 + dt * n as f64;
+        }
+        advance(&mut s, &mut c);
+        let t = theta0 + dt * k as f64;
+        let u = rim.overlap(map, s, c, dir, look);
+        if u <= 0.0 {
+            break refine(&f, t_prev, t, u_prev, u, ANGLE_TOL);
+        }
+        u_max = u_max.max(u);
+        t_prev = t;
+        u_prev = u;
+    };
+    Some(Arc {
+        a,
+        b,
+        depth: (rim.z(b) - rim.z(a)).max(0.0),
+        length: disc.rho(y) * (b - a).abs(),
+        u_max,
+    })
+}
+
+/// The contact of `disc` with `map` under `law` (kerf's direction rule).
+pub fn contact(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    law: &CsmLaw,
+    num: &Numerics,
+    elastic_depth: f64,
+) -> Contact {
+    let g = map.grid();
+    let none = Contact::default();
+    // highest rock anywhere under the disc
+    let r = disc.radius;
+    let Some((i0, i1, j0, j1)) = g.node_range(
+        disc.centre.x - r - g.dx,
+        disc.centre.x + r + g.dx,
+        disc.centre.y - r - g.dy,
+        disc.centre.y + r + g.dy,
+    ) else {
+        return none;
+    };
+    let z_top = map.max_height(i0, i1, j0, j1);
+    if disc.footprint_below(z_top).is_none() {
+        return none;
+    }
+    let cell = g.dx.min(g.dy);
+    let look = g.dx.max(g.dy);
+    let n = num.tip_slices;
+    let h = disc.half_width;
+    let tr = disc.tip_radius;
+
+    // per slice, both sides; the governing slice is the deepest
+    let mut arcs = [[None::<Arc>; 2]; 101];
+    let mut gov: Option<(usize, f64)> = None;
+    for k in 0..n {
+        let y = slice_y(h, n, k);
+        let rho = disc.rho(y);
+        let Some((theta0, reach)) = disc.arc_below(y, rho, z_top) else {
+            continue;
+        };
+        let step = num.arc_step_cells * cell / rho;
+        for (s, dir) in [(0usize, 1.0f64), (1, -1.0)] {
+            let arc = walk(
+                map,
+                disc,
+                y,
+                theta0,
+                reach.min(std::f64::consts::PI),
+                dir,
+                step,
+                look,
+            );
+            if let Some(a) = arc {
+                if gov.is_none_or(|(_, d)| a.depth > d) {
+                    gov = Some((k, a.depth));
+                }
+            }
+            arcs[k][s] = arc;
+        }
+    }
+    let mut c = Contact::default();
+    let any_rim = gov.is_some();
+    let (kg, _) = gov.unwrap_or((0, 0.0));
+    let [ap, am] = arcs[kg];
+    let (pp, pm) = (ap.map_or(0.0, |a| a.depth), am.map_or(0.0, |a| a.depth));
+    let (wp, wm) = match (ap, am) {
+        (Some(_), None) => (1.0, 0.0),
+        (None, Some(_)) => (0.0, 1.0),
+        _ => {
+            let (a, b) = (pp.powi(4), pm.powi(4));
+            if a + b > 0.0 {
+                (a / (a + b), b / (a + b))
+            } else {
+                (0.5, 0.5)
+            }
+        }
+    };
+    if any_rim {
+        let frac = law.resultant_fraction();
+        let mut d_plane = Vector3::zeros();
+        let mut theta_slip = 0.0;
+        let mut fade = 0.0;
+        for (arc, w) in [(ap, wp), (am, wm)] {
+            if let (Some(arc), true) = (arc, w > 0.0) {
+                let tf = arc.a + (arc.b - arc.a) * frac;
+                d_plane += w * Vector3::new(-tf.sin(), 0.0, tf.cos());
+                theta_slip += w * arc.a;
+                fade += w * smoothstep(arc.u_max / elastic_depth);
+            }
+        }
+        let (mut lat, mut vert, mut wsum, mut ysum) = (0.0, 0.0, 0.0, 0.0);
+        for (k, pair) in arcs.iter().enumerate().take(n) {
+            let y = slice_y(h, n, k);
+            let len = |a: Option<Arc>| a.map_or(0.0, |a| a.length);
+            let w = wp * len(pair[0]) + wm * len(pair[1]);
+            lat -= w * y / tr;
+            vert += w * (tr * tr - y * y).max(0.0).sqrt() / tr;
+            wsum += w;
+            ysum += w * y;
+        }
+        let dn = d_plane.norm();
+        if dn > 0.0 && wsum > 0.0 {
+            let dp = d_plane / dn;
+            let dir = Vector3::new(dp.x * vert, lat, dp.z * vert).normalize();
+            let p = wp * pp + wm * pm;
+            c.penetration = p;
+            c.phi = contact_angle(disc.radius, p.min(2.0 * disc.radius));
+            c.rim_force = disc.rot * (dir * law.force(p) * fade);
+            let theta_f = (-dp.x).atan2(dp.z);
+            let y_f = (ysum / wsum).clamp(-h, h);
+            c.application = disc.rot * disc.rim_point_local(theta_f, y_f);
+            c.slip_point = disc.rot * disc.rim_point_local(theta_slip, y_f);
+            c.slip_normal = -(disc.rot * disc.rim_normal_local(theta_slip, y_f));
+            c.in_contact = true;
+        }
+    }
+    // side faces: only a disc whose axle is not horizontal can put a side
+    // face under the rock along a vertical
+    if disc.rot[(2, 1)].abs() > 1e-12 {
+        if let Some(bb) = disc.footprint_below(z_top) {
+            if let Some((i0, i1, j0, j1)) = g.node_range(bb[0], bb[1], bb[2], bb[3]) {
+                let p_ref = c.penetration.max(num.p_reg);
+                let pressure = law.base_pressure(p_ref, contact_angle(disc.radius, p_ref));
+                for j in j0..=j1 {
+                    for i in i0..=i1 {
+                        let (x, y) = g.node_xy(i, j);
+                        if let Some((zl, Face::Side(s))) = disc.lower_boundary(x, y) {
+                            let u = map.node(i, j) - zl;
+                            if u > 0.0 {
+                                let n_out = disc.rot * Vector3::new(0.0, s as f64, 0.0);
+                                let area = g.cell_area() / n_out.z.abs().max(0.1);
+                                let f = -n_out * (pressure * area * smoothstep(u / elastic_depth));
+                                c.side_force += f;
+                                c.side_moment += (Vector3::new(x, y, zl) - disc.centre).cross(&f);
+                                c.in_contact = true;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    c
+}

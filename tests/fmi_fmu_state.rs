@@ -255,3 +255,49 @@ fn fnv1a64(bytes: &[u8]) -> u64 {
     }
     h
 }
+
+#[test]
+fn a_state_restores_without_its_initial_surface_file() {
+    // Make a surface file: cut a little and write it at termination.
+    let path = std::env::temp_dir().join(format!(
+        "kerf-test-state-surface-{}.rsf",
+        std::process::id()
+    ));
+    let maker = Fmu::new("state-file-maker2", Kind::Cs);
+    maker.small_rock();
+    assert_eq!(
+        maker.set_string(vr::ROCK_FINAL_SURFACE, &path.to_string_lossy()),
+        OK
+    );
+    assert_eq!(maker.set_reals(&[vr::VX, vr::WY], &[1.0, 1.0 / R]), OK);
+    maker.init();
+    cs_run(&maker, 0.0, 10, 0.002);
+    assert_eq!(maker.terminate(), OK, "{:?}", maker.errors());
+
+    // Start from it, cut on, capture the state.
+    let fmu = Fmu::new("state-file-user", Kind::Cs);
+    fmu.small_rock();
+    assert_eq!(
+        fmu.set_string(vr::ROCK_INITIAL_SURFACE, &path.to_string_lossy()),
+        OK
+    );
+    assert_eq!(fmu.set_reals(&[vr::VX, vr::WY], &[1.0, 1.0 / R]), OK);
+    fmu.init();
+    cs_run(&fmu, 0.0, 5, 0.002);
+    let s = fmu.get_state();
+    let blob = fmu.serialize(s);
+    let reference = cs_run(&fmu, 0.01, 10, 0.002);
+    std::fs::remove_file(&path).unwrap();
+
+    // The file is gone; the state still restores, in a fresh instance too.
+    let other = Fmu::new("state-file-other", Kind::Cs);
+    let (st, s2) = other.deserialize(&blob);
+    assert_eq!(st, OK, "{:?}", other.errors());
+    assert_eq!(other.set_state(s2), OK, "{:?}", other.errors());
+    assert_eq!(
+        bits(&cs_run(&other, 0.01, 10, 0.002).concat()),
+        bits(&reference.concat())
+    );
+    fmu.free_state(s);
+    other.free_state(s2);
+}

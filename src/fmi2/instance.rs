@@ -222,14 +222,13 @@ impl Values {
     /// The core parameters these values stand for. Every field is written
     /// explicitly, so a new field of `Params` fails the build here until it
     /// gets its FMI variable. `resources` resolves relative surface paths.
-    pub fn params(&self, resources: Option<&Path>) -> Res<Params> {
-        let count = |name: &str, r: u32, least: i32| -> Res<usize> {
+    ///
+    /// `files`: whether `rock.initialSurface` must be readable now (building
+    /// a model) or may be missing (restoring a state, which holds the surface).
+    pub fn params(&self, resources: Option<&Path>, files: Files) -> Res<Params> {
+        let count = |name: &str, r: u32| -> Res<usize> {
             let v = self.int(r);
-            if v < least {
-                Err(format!("parameter {name} = {v}: must be at least {least}"))
-            } else {
-                Ok(v as usize)
-            }
+            usize::try_from(v).map_err(|_| format!("parameter {name} = {v}: must not be negative"))
         };
         let variant = self.int(vr::CSM_VARIANT);
         let direction = self.int(vr::NUMERICS_DIRECTION_RULE);
@@ -258,19 +257,19 @@ impl Values {
                 x_max: self.real(vr::ROCK_X_MAX),
                 y_min: self.real(vr::ROCK_Y_MIN),
                 y_max: self.real(vr::ROCK_Y_MAX),
-                // 0 is below the core's minimum of 2 nodes: Params::validate names it.
-                nx: count("rock.nx", vr::ROCK_NX, 0)?,
-                ny: count("rock.ny", vr::ROCK_NY, 0)?,
+                nx: count("rock.nx", vr::ROCK_NX)?,
+                ny: count("rock.ny", vr::ROCK_NY)?,
                 z0: self.real(vr::ROCK_Z0),
                 initial_surface: resolve_input_path(
                     self.string(vr::ROCK_INITIAL_SURFACE),
                     resources,
+                    files,
                 )?,
                 final_surface: resolve_output_path(self.string(vr::ROCK_FINAL_SURFACE))?,
                 plastic_fraction: self.real(vr::ROCK_PLASTIC_FRACTION),
             },
             numerics: Numerics {
-                tip_slices: count("numerics.tipSlices", vr::NUMERICS_TIP_SLICES, 0)?,
+                tip_slices: count("numerics.tipSlices", vr::NUMERICS_TIP_SLICES)?,
                 arc_step_cells: self.real(vr::NUMERICS_ARC_STEP_CELLS),
                 elastic_depth: self.real(vr::NUMERICS_ELASTIC_DEPTH),
                 p_reg: self.real(vr::NUMERICS_P_REG),
@@ -287,6 +286,13 @@ impl Values {
             },
         })
     }
+}
+
+/// Whether [`Values::params`] requires the initial surface file to exist.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Files {
+    MustExist,
+    MayBeMissing,
 }
 
 /// `file:///a%20b` -> `/a b`; plain paths unchanged.
@@ -346,8 +352,9 @@ pub fn resource_dir(location: Option<&str>) -> Option<PathBuf> {
 
 /// `rock.initialSurface`: "" stays ""; a path or file URI; a relative path is
 /// taken from the working directory, else from the FMU's resources folder. The
-/// file must be readable (the core parses it).
-fn resolve_input_path(s: &str, resources: Option<&Path>) -> Res<String> {
+/// file must be readable (the core parses it), unless `files` says it may be
+/// missing, when the first candidate is returned.
+fn resolve_input_path(s: &str, resources: Option<&Path>, files: Files) -> Res<String> {
     if s.is_empty() {
         return Ok(String::new());
     }
@@ -369,6 +376,9 @@ fn resolve_input_path(s: &str, resources: Option<&Path>) -> Res<String> {
                 }
             }
         }
+    }
+    if files == Files::MayBeMissing {
+        return Ok(p.to_string_lossy().into_owned());
     }
     Err(format!(
         "parameter rock.initialSurface = \"{s}\": cannot read the surface file ({why})"
@@ -584,7 +594,9 @@ impl Instance {
     /// Builds the core model from the parameters unless the current one was
     /// built from the same; logs its warnings when it builds.
     fn ensure_model(&mut self) -> Res<Status> {
-        let params = self.values.params(self.resources.as_deref())?;
+        let params = self
+            .values
+            .params(self.resources.as_deref(), Files::MustExist)?;
         if self.model.is_some() && self.model_params.as_ref() == Some(&params) {
             return Ok(Status::Ok);
         }
@@ -1077,13 +1089,23 @@ impl Instance {
             Some(ms) => {
                 let params = s
                     .values
-                    .params(self.resources.as_deref())
+                    .params(self.resources.as_deref(), Files::MayBeMissing)
                     .map_err(|e| format!("fmi2SetFMUstate: {e}"))?;
                 let reuse = self.model.is_some() && self.model_params.as_ref() == Some(&params);
                 let mut model = if reuse {
                     self.model.take().unwrap()
                 } else {
-                    Model::new(params.clone()).map_err(|e| format!("fmi2SetFMUstate: {e}"))?
+                    match Model::new(params.clone()) {
+                        Ok(m) => m,
+                        // The state holds the whole surface: if the initial
+                        // surface file is gone, start from the flat face.
+                        Err(e) if !params.rock.initial_surface.is_empty() => {
+                            let mut flat = params.clone();
+                            flat.rock.initial_surface.clear();
+                            Model::new(flat).map_err(|_| format!("fmi2SetFMUstate: {e}"))?
+                        }
+                        Err(e) => return Err(format!("fmi2SetFMUstate: {e}")),
+                    }
                 };
                 if let Err(e) = model.set_state(ms) {
                     if reuse {

@@ -21,7 +21,7 @@ use std::path::Path;
 
 use crate::core::{ModelState, Pose};
 
-use super::instance::{Kind, Mode, Res, Snapshot, Values};
+use super::instance::{Files, Kind, Mode, Res, Snapshot, Values};
 use super::md;
 
 const MAGIC: &[u8; 8] = b"KERFFMU\0";
@@ -258,7 +258,7 @@ pub fn decode(bytes: &[u8], resources: Option<&Path>) -> Res<Snapshot> {
     let model = if r.flag("hasModel")? {
         let n = usize::try_from(r.u64()?).map_err(|_| "model state too large")?;
         let blob = r.take(n)?;
-        let params = values.params(resources)?;
+        let params = values.params(resources, Files::MayBeMissing)?;
         Some(ModelState::from_bytes(blob, &params).map_err(|e| e.to_string())?)
     } else {
         if !matches!(mode, Mode::Instantiated | Mode::InitializationMode) {

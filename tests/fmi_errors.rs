@@ -210,3 +210,88 @@ fn final_surface_is_written_at_terminate() {
     again.init();
     let _ = std::fs::remove_file(&path);
 }
+
+#[test]
+fn questionable_parameters_are_logged_as_warnings() {
+    // Ozdemir & Rostami's regressions (imperial units) used far outside
+    // their Table 1 range: legal, but worth a warning.
+    let fmu = Fmu::new("err-warnings", Kind::Cs);
+    fmu.small_rock();
+    assert_eq!(fmu.set_int(vr::CSM_VARIANT, 4), OK);
+    assert_eq!(
+        fmu.set_reals(&[vr::ROCK_UCS, vr::ROCK_BTS], &[400e6, 40e6]),
+        OK
+    );
+    assert_eq!(fmu.setup(0.0), OK);
+    assert_eq!(fmu.enter_init(), OK);
+    assert_eq!(fmu.exit_init(), WARNING);
+    let warnings: Vec<_> = fmu
+        .messages()
+        .into_iter()
+        .filter(|m| m.level == log::Level::Warn)
+        .collect();
+    assert!(!warnings.is_empty());
+    assert!(fmu.errors().is_empty());
+    // The reference scene with the thesis law warns about nothing.
+    let quiet = Fmu::new("err-no-warnings", Kind::Cs);
+    quiet.small_rock();
+    quiet.init();
+    assert!(quiet.messages().is_empty(), "{:?}", quiet.messages());
+}
+
+#[test]
+fn relative_surface_paths_are_found_in_the_resources_folder() {
+    // A resources folder with a space in its name (percent-encoded in the URI).
+    let dir = std::env::temp_dir().join(format!("kerf test resources {}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("start.rsf");
+    let maker = Fmu::new("err-res-maker", Kind::Cs);
+    maker.small_rock();
+    assert_eq!(
+        maker.set_string(vr::ROCK_FINAL_SURFACE, &file.to_string_lossy()),
+        OK
+    );
+    maker.init();
+    assert_eq!(maker.terminate(), OK, "{:?}", maker.errors());
+    let uri = format!("file://{}", dir.to_string_lossy().replace(' ', "%20"));
+
+    let c = instantiate_at(
+        "err-res-user",
+        Kind::Cs,
+        kerf::fmi2::md::GUID,
+        false,
+        Some(&uri),
+    );
+    let fmu = Fmu {
+        c,
+        name: "err-res-user".into(),
+        kind: Kind::Cs,
+    };
+    fmu.small_rock();
+    assert_eq!(fmu.set_string(vr::ROCK_INITIAL_SURFACE, "start.rsf"), OK);
+    fmu.init();
+    assert_eq!(fmu.do_step(0.0, 0.01), OK);
+
+    let c = instantiate_at(
+        "err-res-missing",
+        Kind::Cs,
+        kerf::fmi2::md::GUID,
+        false,
+        Some(&uri),
+    );
+    let fmu = Fmu {
+        c,
+        name: "err-res-missing".into(),
+        kind: Kind::Cs,
+    };
+    fmu.small_rock();
+    assert_eq!(fmu.set_string(vr::ROCK_INITIAL_SURFACE, "other.rsf"), OK);
+    assert_eq!(fmu.enter_init(), OK);
+    assert_eq!(fmu.exit_init(), ERROR);
+    assert!(
+        fmu.last_error().contains("other.rsf"),
+        "{}",
+        fmu.last_error()
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

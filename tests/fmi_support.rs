@@ -100,7 +100,20 @@ pub struct Fmu {
 unsafe impl Send for Fmu {}
 
 pub fn instantiate_raw(name: &str, kind: Kind, guid: &str, logging_on: bool) -> fmi2Component {
+    instantiate_at(name, kind, guid, logging_on, None)
+}
+
+/// As a host does it: `resources` is the `file://` URI of the resources folder.
+pub fn instantiate_at(
+    name: &str,
+    kind: Kind,
+    guid: &str,
+    logging_on: bool,
+    resources: Option<&str>,
+) -> fmi2Component {
     install_logger();
+    let res_c = resources.map(|r| CString::new(r).unwrap());
+    let res_p = res_c.as_ref().map_or(ptr::null(), |r| r.as_ptr());
     let name_c = CString::new(name).unwrap();
     let guid_c = CString::new(guid).unwrap();
     let cb = callbacks();
@@ -113,7 +126,7 @@ pub fn instantiate_raw(name: &str, kind: Kind, guid: &str, logging_on: bool) -> 
             name_c.as_ptr(),
             t,
             guid_c.as_ptr(),
-            ptr::null(),
+            res_p,
             &cb,
             0,
             logging_on.into(),

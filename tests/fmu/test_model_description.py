@@ -42,12 +42,13 @@ PARAMETERS = {
     "rock.initialSurface": ("parameter", "String", None, ""),
     "rock.finalSurface": ("parameter", "String", None, ""),
     "rock.plasticFraction": ("parameter", "Real", "1", 1.0),
-    # numerical settings (README): not in interface.md's table, but fixed by the brief
-    "numerics.tipSlices": ("parameter", "Integer", None, 9),
-    "numerics.arcStepCells": ("parameter", "Real", "1", 0.5),
-    "numerics.elasticDepth": ("parameter", "Real", "m", 2e-6),
-    "numerics.pReg": ("parameter", "Real", "m", 5e-5),
-    "numerics.sweepStep": ("parameter", "Real", "m", 5e-4),
+    # numerical settings (README): names, types and units are fixed; their defaults
+    # are the physics core's to tune, except the direction rule (1 = kerf's)
+    "numerics.tipSlices": ("parameter", "Integer", None, None),
+    "numerics.arcStepCells": ("parameter", "Real", "1", None),
+    "numerics.elasticDepth": ("parameter", "Real", "m", None),
+    "numerics.pReg": ("parameter", "Real", "m", None),
+    "numerics.sweepStep": ("parameter", "Real", "m", None),
     "numerics.directionRule": ("parameter", "Enumeration", None, 1),
 }
 

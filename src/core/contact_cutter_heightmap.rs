@@ -11,10 +11,11 @@
 //! **The leading edge.** A height map blurs the corner where the groove meets
 //! uncut rock over one cell, so the rim's exit from the rock would be found up
 //! to a cell too early (0.19 mm of depth at 1 mm cells, 5 % of the reference
-//! force). The walk therefore compares the rim with the rock at the sample
-//! and with the highest node of the cell one cell further along the walk
-//! (the node maximum has no diagonal, so it treats +y and -y alike): on a
-//! flat face every slice's exit is then exact.
+//! force). Contact therefore starts where the rim is inside the rock itself,
+//! and lasts while it is inside the rock here or one cell further along the
+//! walk (read bilinearly: no diagonal, so +y and -y are treated alike). On a
+//! flat face the exit is then exact; a rim hovering over its own groove does
+//! not start a contact from the groove's walls.
 //!
 //! **Which arc cuts.** Each side of the lowest point gives an arc of depth
 //! `p+` (towards cutter +x) and `p-`. A rolling cutter cuts with its leading
@@ -39,8 +40,9 @@
 //!
 //! **Elastic layer.** A cut leaves the rock `elastic_depth` inside the rim
 //! (see `cut_cutter_heightmap`), so a cutter held still keeps its contact.
-//! The force is faded in over that depth (`smoothstep(u_max / elastic_depth)`)
-//! so that lifting the cutter off its groove unloads it smoothly.
+//! The force is faded in over that depth (`smoothstep(u / elastic_depth)`,
+//! `u` the deepest the rim is inside the rock on any slice), so lifting the
+//! cutter off its groove unloads it without a jump up.
 
 use nalgebra::Vector3;
 
@@ -59,7 +61,8 @@ pub struct Arc {
     pub depth: f64,
     /// Arc length on the rim.
     pub length: f64,
-    /// Largest overlap of rock over rim met on the arc.
+    /// Largest overlap of the rock itself over the rim met on the arc (no
+    /// look-ahead): how far the rim is inside the rock, for the elastic fade.
     pub u_max: f64,
 }
 
@@ -117,22 +120,26 @@ impl RimCircle {
     }
 
     /// Rock over rim at the angle with sine `s` and cosine `c`, walking in
-    /// direction `dir`: the rock height (the larger of the height here and the
-    /// highest node of the cell one look-ahead further along the walk) minus
-    /// the rim height.
+    /// direction `dir`: `(plain, ahead)`, the overlap of the rock here and the
+    /// larger of that and the overlap of the rock one look-ahead further along
+    /// the walk (bilinear).
     #[inline]
-    fn overlap(&self, map: &HeightMap, s: f64, c: f64, dir: f64, look: f64) -> f64 {
+    fn overlap(&self, map: &HeightMap, s: f64, c: f64, dir: f64, look: f64) -> (f64, f64) {
         let p = self.base + self.ex * s + self.ez * c;
-        let mut rock = map.height(p.x, p.y);
+        let here = map.height(p.x, p.y) - p.z;
         // horizontal direction of the walk (d/dtheta of the point)
         let tx = dir * (self.ex.x * c - self.ez.x * s);
         let ty = dir * (self.ex.y * c - self.ez.y * s);
         let n2 = tx * tx + ty * ty;
         if n2 > 1e-12 * self.ex.norm_squared() {
             let k = look / n2.sqrt();
-            rock = rock.max(map.cell_max(p.x + k * tx, p.y + k * ty));
+            (
+                here,
+                here.max(map.bilinear(p.x + k * tx, p.y + k * ty) - p.z),
+            )
+        } else {
+            (here, here)
         }
-        rock - p.z
     }
 
     fn z(&self, theta: f64) -> f64 {
@@ -196,9 +203,15 @@ pub fn walk(
     look: f64,
 ) -> Option<Arc> {
     let rim = RimCircle::new(disc, y);
-    let f = |t: f64| {
+    // contact starts where the rim is below the rock itself ...
+    let f_start = |t: f64| {
         let (s, c) = t.sin_cos();
-        rim.overlap(map, s, c, dir, look)
+        rim.overlap(map, s, c, dir, look).0
+    };
+    // ... and lasts while it is below the rock here or one cell ahead
+    let f_end = |t: f64| {
+        let (s, c) = t.sin_cos();
+        rim.overlap(map, s, c, dir, look).1
     };
     let n = ((reach / step).ceil() as usize).max(1);
     let dt = dir * reach / n as f64;
@@ -209,11 +222,13 @@ pub fn walk(
         *c = *c * cd - *s * sd;
         *s = s1;
     };
-    let (mut t_prev, mut u_prev) = (theta0, rim.overlap(map, s, c, dir, look));
+    let (here0, ahead0) = rim.overlap(map, s, c, dir, look);
     let mut k = 0;
-    let a = if u_prev > 0.0 {
-        theta0
+    let mut u_max = here0.max(0.0);
+    let (a, mut t_prev, mut u_prev) = if here0 > 0.0 {
+        (theta0, theta0, ahead0)
     } else {
+        let (mut tp, mut up) = (theta0, here0);
         loop {
             k += 1;
             if k > n {
@@ -221,18 +236,15 @@ pub fn walk(
             }
             advance(&mut s, &mut c);
             let t = theta0 + dt * k as f64;
-            let u = rim.overlap(map, s, c, dir, look);
-            if u > 0.0 {
-                let a = refine(&f, t, t_prev, u, u_prev, ANGLE_TOL);
-                t_prev = t;
-                u_prev = u;
-                break a;
+            let (here, ahead) = rim.overlap(map, s, c, dir, look);
+            if here > 0.0 {
+                u_max = here;
+                break (refine(&f_start, t, tp, here, up, ANGLE_TOL), t, ahead);
             }
-            t_prev = t;
-            u_prev = u;
+            tp = t;
+            up = here;
         }
     };
-    let mut u_max = u_prev.max(0.0);
     let b = loop {
         k += 1;
         if k > n {
@@ -240,13 +252,13 @@ pub fn walk(
         }
         advance(&mut s, &mut c);
         let t = theta0 + dt * k as f64;
-        let u = rim.overlap(map, s, c, dir, look);
-        if u <= 0.0 {
-            break refine(&f, t_prev, t, u_prev, u, ANGLE_TOL);
+        let (here, ahead) = rim.overlap(map, s, c, dir, look);
+        if ahead <= 0.0 {
+            break refine(&f_end, t_prev, t, u_prev, ahead, ANGLE_TOL);
         }
-        u_max = u_max.max(u);
+        u_max = u_max.max(here);
         t_prev = t;
-        u_prev = u;
+        u_prev = ahead;
     };
     Some(Arc {
         a,
@@ -337,15 +349,21 @@ pub fn contact(
         let frac = law.resultant_fraction();
         let mut d_plane = Vector3::zeros();
         let mut theta_slip = 0.0;
-        let mut fade = 0.0;
         for (arc, w) in [(ap, wp), (am, wm)] {
             if let (Some(arc), true) = (arc, w > 0.0) {
                 let tf = arc.a + (arc.b - arc.a) * frac;
                 d_plane += w * Vector3::new(-tf.sin(), 0.0, tf.cos());
                 theta_slip += w * arc.a;
-                fade += w * smoothstep(arc.u_max / elastic_depth);
             }
         }
+        // elastic fade: the deepest the rim is inside the rock on any slice
+        let u_in = arcs
+            .iter()
+            .take(n)
+            .flatten()
+            .flatten()
+            .fold(0.0f64, |m, a| m.max(a.u_max));
+        let fade = smoothstep(u_in / elastic_depth);
         let (mut lat, mut vert, mut wsum, mut ysum) = (0.0, 0.0, 0.0, 0.0);
         for (k, pair) in arcs.iter().enumerate().take(n) {
             let y = slice_y(h, n, k);

@@ -236,11 +236,11 @@ impl HeightMap {
         Some((id, [-p.dzdx / n, -p.dzdy / n, 1.0 / n]))
     }
 
-    /// Highest of the four nodes of the cell holding `(x, y)`, [`NO_ROCK`]
-    /// outside the map. Symmetric (no diagonal), and on the uncut side of a
-    /// groove's edge it reads the uncut rock that interpolation would blur.
+    /// Bilinear interpolation of the cell holding `(x, y)`, [`NO_ROCK`]
+    /// outside the map. Unlike the triangles it has no diagonal, so it treats
+    /// +y and -y alike; the contact walk uses it to look ahead.
     #[inline]
-    pub fn cell_max(&self, x: f64, y: f64) -> f64 {
+    pub fn bilinear(&self, x: f64, y: f64) -> f64 {
         let g = &self.grid;
         let u = (x - g.x_min) / g.dx;
         let v = (y - g.y_min) / g.dy;
@@ -249,10 +249,10 @@ impl HeightMap {
         }
         let i = (u as usize).min(g.nx - 2);
         let j = (v as usize).min(g.ny - 2);
-        self.node(i, j)
-            .max(self.node(i + 1, j))
-            .max(self.node(i, j + 1))
-            .max(self.node(i + 1, j + 1))
+        let (fu, fv) = (u - i as f64, v - j as f64);
+        let a = self.node(i, j) + (self.node(i + 1, j) - self.node(i, j)) * fu;
+        let b = self.node(i, j + 1) + (self.node(i + 1, j + 1) - self.node(i, j + 1)) * fu;
+        a + (b - a) * fv
     }
 
     /// Surface height at `(x, y)`, [`NO_ROCK`] outside the map (the same

@@ -263,6 +263,7 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
     // the host never uses it again, so taking the Box back is sound.
     if let Some(b) = unsafe { instance(c) } {
         b.magic = 0;
+        // SAFETY: made by Box::into_raw in fmi2Instantiate; `b` is not used after this.
         let b = unsafe { Box::from_raw(b as *mut InstanceBox) };
         let _ = guarded(move || drop(b));
     }

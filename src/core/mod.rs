@@ -20,6 +20,7 @@ pub use error::{KerfError, Result};
 pub use model::{Model, ModelState, Outputs};
 pub use params::{CsmVariant, DirectionRule, Params};
 pub use pose::{Pose, Twist};
+pub mod baseline;
 pub mod contact_cutter_heightmap;
 pub mod contact_thesis;
 pub mod csm;

@@ -93,3 +93,32 @@ def test_model_exchange_cuts_the_rock(me_runs, cs_reference, solver):
     v_cs = cs_reference["excavatedVolume"][-1]
     assert v_cs > 0
     assert v_me == pytest.approx(v_cs, rel=2e-2)
+
+
+def test_cs_integrates_the_pose_when_the_host_sets_only_velocities(fmu, cs_reference):
+    """Velocity inputs only (x never set after initialisation): the FMU carries the
+    pose itself, so the run matches the one where the host feeds x(t) = v t."""
+    inst = fmu.instance("CS", name="velocity-only")
+    try:
+        res = kh.run_line_cs(inst, n_steps=400, h=1e-3, feed_x=False)
+    finally:
+        inst.free()
+    for name in ("normalForce", "rollingForce", "excavatedVolume"):
+        a, b = res[name], cs_reference[name][:401]
+        assert np.allclose(a, b, rtol=1e-6, atol=1e-6 * np.max(np.abs(b))), \
+            f"{name}: velocity-only run differs from the fed-x run by {np.max(np.abs(a - b)):.3g}"
+
+
+@pytest.mark.parametrize("h", [0.005, 0.02])
+def test_cs_long_steps_leave_no_uncut_rock(fmu, cs_reference, theory, h):
+    """CS cuts along the whole path of a step: 5 mm and 20 mm steps remove the
+    same rock as 1 mm steps and see the same steady forces."""
+    inst = fmu.instance("CS", name=f"h{h}")
+    try:
+        res = kh.run_line_cs(inst, n_steps=round(1.0 / h), h=h)
+    finally:
+        inst.free()
+    v, v_ref = res["excavatedVolume"][-1], cs_reference["excavatedVolume"][-1]
+    assert v == pytest.approx(v_ref, rel=1e-2), f"h = {h}: {v * 1e6:.3f} cm3 vs {v_ref * 1e6:.3f} cm3 at 1 ms"
+    fn = kh.steady_mean(res, "normalForce", LO, HI)
+    assert fn == pytest.approx(theory["FN"], rel=1e-3)

@@ -971,6 +971,12 @@ impl Instance {
         let cuts = model
             .cuts(&pose)
             .map_err(|e| format!("fmi2CompletedIntegratorStep: {e}"))?;
+        if !cuts {
+            // An accepted step that cuts nothing does no work on the rock (the
+            // cutter is out of it, or held still): the energy of the next
+            // commit counts from here, not from the last event.
+            self.last_commit_time = self.time;
+        }
         Ok((cuts, false))
     }
 

@@ -17,8 +17,9 @@
 //!   ray normalised), with the STEP friction of eqs 55-60 read there.
 //! * **Deformation (ch. 8, eqs 67-72).** At every step, every node of the
 //!   whole face is visited: its coordinates are formed (eqs 67-70) and moved
-//!   into the cutter frame; nodes in the disc's shadow are compared with the
-//!   disc's lower boundary and moved down onto it (fully plastic). The cut
+//!   into the cutter frame; a node inside the disc (eq. 71's comparison) is
+//!   moved down onto the disc's lower boundary on its vertical (eq. 72, fully
+//!   plastic; for an upright disc that is eq. 71's rim point). The cut
 //!   is written into a temporary matrix that becomes the rock once the step
 //!   is done (ch. 8.2.1).
 //! * **Co-Simulation step.** The rock changes only at the sampled poses (the
@@ -28,8 +29,7 @@
 //! `n_alpha * n_y`, whatever the contact. Two things are kinder to the
 //! baseline than the Fortran was: the height map is kerf's tiled one, so the
 //! temporary copy holds only the tiles cut so far instead of the whole dense
-//! matrix, and the node loop skips the transform's last row (the node's
-//! local z is not needed once its vertical is checked against the disc).
+//! matrix.
 
 use std::collections::HashSet;
 
@@ -254,8 +254,6 @@ impl BaselineModel {
         let rt = disc.rot.transpose();
         let b = disc.half_width;
         let big_r = disc.radius;
-        let upright = disc.rot[(2, 1)].abs() < 1e-12;
-        let reach2 = (big_r + b) * (big_r + b);
         let mut lowered = 0usize;
         let mut volume = 0.0;
         for j in 0..g.ny {
@@ -264,23 +262,24 @@ impl BaselineModel {
                 let (x, y) = g.node_xy(i, j);
                 let z = self.map.node(i, j);
                 let v = Vector3::new(x - disc.centre.x, y - disc.centre.y, z - disc.centre.z);
-                // into the cutter frame; the shadow test of ch. 8.1 (exact for
-                // an upright disc; a tilted one is tested on its horizontal reach)
+                // into the cutter frame (eq. 70 rotated); ch. 8.1: the node
+                // can be cut only if it lies inside the disc (|y| <= T/2 and
+                // within the rim radius R(y) of the axle)
                 let xl = rt[(0, 0)] * v.x + rt[(0, 1)] * v.y + rt[(0, 2)] * v.z;
                 let yl = rt[(1, 0)] * v.x + rt[(1, 1)] * v.y + rt[(1, 2)] * v.z;
-                let shadowed = if upright {
-                    yl.abs() <= b && xl.abs() < big_r && xl.abs() < disc.rho(yl)
-                } else {
-                    v.x * v.x + v.y * v.y <= reach2
-                };
-                if !shadowed {
+                let zl = rt[(2, 0)] * v.x + rt[(2, 1)] * v.y + rt[(2, 2)] * v.z;
+                if !(yl.abs() <= b && xl.abs() < big_r) {
+                    continue;
+                }
+                let rho = disc.rho(yl);
+                if xl * xl + zl * zl >= rho * rho {
                     continue;
                 }
                 // eqs 71-72: the node goes down onto the disc (fully plastic)
-                if let Some((zl, _)) = disc.lower_boundary(x, y) {
-                    if z > zl {
-                        temp.set_node(i, j, zl);
-                        volume += (z - zl) * g.cell_area();
+                if let Some((zb, _)) = disc.lower_boundary(x, y) {
+                    if z > zb {
+                        temp.set_node(i, j, zb);
+                        volume += (z - zb) * g.cell_area();
                         lowered += 1;
                     }
                 }

@@ -16,6 +16,9 @@ fn main() {
     if let Some(v) = env("SWEEP") {
         prm.numerics.sweep_step = v;
     }
+    if env("DIR") == Some(2.0) {
+        prm.numerics.direction = DirectionRule::Thesis;
+    }
     let r = prm.cutter.radius;
     let mut m = Model::new(prm.clone()).unwrap();
     let p = p_mm * 1e-3;

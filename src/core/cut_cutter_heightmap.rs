@@ -41,58 +41,92 @@ fn node_window(map: &HeightMap, disc: &PosedDisc) -> Option<(usize, usize, usize
     g.node_range(bb[0], bb[1], bb[2], bb[3])
 }
 
-/// Visits every node of the window that lies more than `elastic_depth +
-/// CUT_TOLERANCE` above the disc's lower boundary, with that excess; stops
-/// early when `visit` returns `false`.
-fn for_each_excess(
-    map: &HeightMap,
+/// Read access to the map, and writes where the caller may write.
+trait Nodes {
+    fn map(&self) -> &HeightMap;
+    fn set(&mut self, i: usize, j: usize, z: f64);
+}
+
+impl Nodes for HeightMap {
+    fn map(&self) -> &HeightMap {
+        self
+    }
+    fn set(&mut self, i: usize, j: usize, z: f64) {
+        self.set_node(i, j, z);
+    }
+}
+
+/// A view for probing: [`sweep_nodes`] without a fraction never writes.
+struct ReadOnly<'a>(&'a HeightMap);
+
+impl Nodes for ReadOnly<'_> {
+    fn map(&self) -> &HeightMap {
+        self.0
+    }
+    fn set(&mut self, _: usize, _: usize, _: f64) {}
+}
+
+/// Walks the nodes of the window that lie more than `elastic_depth +
+/// CUT_TOLERANCE` above the disc's lower boundary. With `fraction` it lowers
+/// each by that share of its excess; without, it stops at the first one.
+fn sweep_nodes<M: Nodes>(
+    map: &mut M,
     disc: &PosedDisc,
     elastic_depth: f64,
-    mut visit: impl FnMut(usize, usize, f64) -> bool,
-) {
-    let Some((i0, i1, j0, j1)) = node_window(map, disc) else {
-        return;
+    fraction: Option<f64>,
+) -> (CutStats, bool) {
+    let mut stats = CutStats::default();
+    let Some((i0, i1, j0, j1)) = node_window(map.map(), disc) else {
+        return (stats, false);
     };
-    let g = *map.grid();
+    let g = *map.map().grid();
+    let area = g.cell_area();
     let rt = disc.rot.transpose();
     let d = rt.column(2).into_owned();
-    if d.y.abs() < 1e-12 {
-        // axle horizontal: the local coordinates are affine along a row and
-        // the lower boundary is the rim circle of radius rho(y_local)
-        let step = rt.column(0) * g.dx;
-        let h = disc.half_width;
-        for j in j0..=j1 {
-            let (x0, y) = g.node_xy(i0, j);
-            let mut a =
-                rt * nalgebra::Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);
-            for i in i0..=i1 {
-                if a.y.abs() <= h {
-                    let rho = disc.rho(a.y);
-                    let b = a.x * d.x + a.z * d.z;
-                    let disc2 = b * b - (a.x * a.x + a.z * a.z - rho * rho);
-                    if disc2 >= 0.0 {
-                        let excess = map.node(i, j) - (-b - disc2.sqrt() + elastic_depth);
-                        if excess > CUT_TOLERANCE && !visit(i, j, excess) {
-                            return;
-                        }
-                    }
-                }
-                a += step;
-            }
-        }
-        return;
-    }
+    let horizontal = d.y.abs() < 1e-12;
+    let step = rt.column(0) * g.dx;
+    let h = disc.half_width;
     for j in j0..=j1 {
+        let (x0, y) = g.node_xy(i0, j);
+        let mut a =
+            rt * nalgebra::Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);
         for i in i0..=i1 {
-            let (x, y) = g.node_xy(i, j);
-            if let Some((zl, _)) = disc.lower_boundary(x, y) {
-                let excess = map.node(i, j) - (zl + elastic_depth);
-                if excess > CUT_TOLERANCE && !visit(i, j, excess) {
-                    return;
+            let z_low = if horizontal {
+                // axle horizontal: local coordinates are affine along a row and
+                // the lower boundary is the rim circle of radius rho(y_local)
+                let q = a;
+                a += step;
+                if q.y.abs() > h {
+                    continue;
                 }
+                let rho = disc.rho(q.y);
+                let b = q.x * d.x + q.z * d.z;
+                let disc2 = b * b - (q.x * q.x + q.z * q.z - rho * rho);
+                if disc2 < 0.0 {
+                    continue;
+                }
+                -b - disc2.sqrt()
+            } else {
+                let (x, y) = g.node_xy(i, j);
+                match disc.lower_boundary(x, y) {
+                    Some((zl, _)) => zl,
+                    None => continue,
+                }
+            };
+            let z = map.map().node(i, j);
+            let excess = z - (z_low + elastic_depth);
+            if excess > CUT_TOLERANCE {
+                let Some(f) = fraction else {
+                    return (stats, true);
+                };
+                let drop = f * excess;
+                map.set(i, j, z - drop);
+                stats.volume += drop * area;
+                stats.nodes += 1;
             }
         }
     }
+    (stats, stats.nodes > 0)
 }
 
 /// Cuts the rock at the disc's pose.
@@ -102,28 +136,10 @@ pub fn cut(
     elastic_depth: f64,
     plastic_fraction: f64,
 ) -> CutStats {
-    let mut drops = Vec::new();
-    for_each_excess(map, disc, elastic_depth, |i, j, excess| {
-        drops.push((i, j, plastic_fraction * excess));
-        true
-    });
-    let area = map.grid().cell_area();
-    let mut stats = CutStats::default();
-    for (i, j, drop) in drops {
-        let z = map.node(i, j);
-        map.set_node(i, j, z - drop);
-        stats.volume += drop * area;
-        stats.nodes += 1;
-    }
-    stats
+    sweep_nodes(map, disc, elastic_depth, Some(plastic_fraction)).0
 }
 
 /// Would [`cut`] at this pose lower any node?
 pub fn would_cut(map: &HeightMap, disc: &PosedDisc, elastic_depth: f64) -> bool {
-    let mut any = false;
-    for_each_excess(map, disc, elastic_depth, |_, _, _| {
-        any = true;
-        false
-    });
-    any
+    sweep_nodes(&mut ReadOnly(map), disc, elastic_depth, None).1
 }

@@ -177,17 +177,16 @@ impl PosedDisc {
             bb[3] = bb[3].max(p.y);
             any = true;
         };
-        // The part of the solid below z_top is the convex hull of its rim
-        // circles' arcs below z_top. Circles every `dy` across the tip, each
-        // arc bounded by its end points and its x/y extremes, and the box
-        // padded by the axle's reach over half a spacing, enclose it.
-        let n = 8;
-        let dy = 2.0 * self.half_width / n as f64;
-        let pad_x = 0.5 * dy * self.rot[(0, 1)].abs();
-        let pad_y = 0.5 * dy * self.rot[(1, 1)].abs();
-        for k in 0..=n {
-            let y = -self.half_width + dy * k as f64;
-            let rho = self.rho(y);
+        // Every rim circle (radius rho(y) <= R, centre on the axle segment)
+        // lies inside the radius-R circle about the same centre, so the part
+        // of the solid below z_top lies in the hull of the radius-R arcs below
+        // z_top at the two ends of the axle segment (the centre varies
+        // linearly along it); each arc is bounded by its end points and its
+        // x/y extremes. The padding covers rounding.
+        let pad_x = 1e-9;
+        let pad_y = 1e-9;
+        let rho = self.radius;
+        for y in [-self.half_width, self.half_width] {
             if let Some((t0, dt)) = self.arc_below(y, rho, z_top) {
                 for th in [t0 - dt, t0 + dt] {
                     add(self.to_world(&Vector3::new(rho * th.sin(), y, -rho * th.cos())));

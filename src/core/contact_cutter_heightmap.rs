@@ -127,6 +127,10 @@ impl RimCircle {
     fn overlap(&self, map: &HeightMap, s: f64, c: f64, dir: f64, look: f64) -> (f64, f64) {
         let p = self.base + self.ex * s + self.ez * c;
         let here = map.height(p.x, p.y) - p.z;
+        if here > 0.0 {
+            // inside the rock already: the look-ahead cannot change the sign
+            return (here, here);
+        }
         // horizontal direction of the walk (d/dtheta of the point)
         let tx = dir * (self.ex.x * c - self.ez.x * s);
         let ty = dir * (self.ex.y * c - self.ez.y * s);
@@ -186,13 +190,86 @@ fn refine(
     0.5 * (t_in + t_out)
 }
 
-/// Angular tolerance of the arc ends: 1e-9 of a radian is 0.2 um of rim.
+/// Angular tolerance of the arc ends that can set the penetration: 1e-9 rad
+/// is 0.2 nm of rim.
 const ANGLE_TOL: f64 = 1e-9;
+/// Angular tolerance of the other slices' arc ends, which only weight the
+/// lean across the tip: 1e-6 rad is 0.2 um of rim.
+const LEAN_TOL: f64 = 1e-6;
 
-/// Walks one side (`dir` = +1 towards cutter +x) of one slice from the lowest
-/// point `theta0` up to `theta0 + dir * reach`, in steps of about `step`.
+/// The march of one side of one slice, before its ends are refined: the
+/// start is `a` exactly or bracketed by `[a_out, a]`, the end by `[b_in, b_out]`.
+#[derive(Debug, Clone, Copy)]
+pub struct Walk {
+    y: f64,
+    dir: f64,
+    a: f64,
+    a_out: Option<(f64, f64, f64)>,
+    b_in: (f64, f64),
+    b_out: Option<(f64, f64)>,
+    u_max: f64,
+}
+
+impl Walk {
+    /// Depth of the arc if its end lay at `b` (`z(b) - z(a)`).
+    fn depth_to(&self, disc: &PosedDisc, b: f64) -> f64 {
+        let rim = RimCircle::new(disc, self.y);
+        (rim.z(b) - rim.z(self.a)).max(0.0)
+    }
+
+    /// Largest depth the refined arc can have.
+    pub fn depth_bound(&self, disc: &PosedDisc) -> f64 {
+        self.depth_to(disc, self.b_out.map_or(self.b_in.0, |o| o.0))
+    }
+
+    /// The arc, its ends refined by regula falsi to `ANGLE_TOL` (`refine`) or
+    /// left at the last sample inside (for arcs whose weight is negligible).
+    pub fn finish(
+        &self,
+        map: &HeightMap,
+        disc: &PosedDisc,
+        look: f64,
+        refine_ends: bool,
+        tol: f64,
+    ) -> Arc {
+        let rim = RimCircle::new(disc, self.y);
+        let dir = self.dir;
+        let a = match (self.a_out, refine_ends) {
+            (Some((t_out, u_out, u_in)), true) => {
+                let f_start = |t: f64| {
+                    let (s, c) = t.sin_cos();
+                    rim.overlap(map, s, c, dir, look).0
+                };
+                refine(&f_start, self.a, t_out, u_in, u_out, tol)
+            }
+            _ => self.a,
+        };
+        let b = match (self.b_out, refine_ends) {
+            (Some((t_out, u_out)), true) => {
+                let f_end = |t: f64| {
+                    let (s, c) = t.sin_cos();
+                    rim.overlap(map, s, c, dir, look).1
+                };
+                refine(&f_end, self.b_in.0, t_out, self.b_in.1, u_out, tol)
+            }
+            (Some(_), false) => self.b_in.0,
+            (None, _) => self.b_in.0,
+        };
+        Arc {
+            a,
+            b,
+            depth: (rim.z(b) - rim.z(a)).max(0.0),
+            length: disc.rho(self.y) * (b - a).abs(),
+            u_max: self.u_max,
+        }
+    }
+}
+
+/// Marches one side (`dir` = +1 towards cutter +x) of one slice from the
+/// lowest point `theta0` up to `theta0 + dir * reach`, in steps of about
+/// `step`, and brackets the contact arc's ends.
 #[allow(clippy::too_many_arguments)]
-pub fn walk(
+pub fn march(
     map: &HeightMap,
     disc: &PosedDisc,
     y: f64,
@@ -201,18 +278,8 @@ pub fn walk(
     dir: f64,
     step: f64,
     look: f64,
-) -> Option<Arc> {
+) -> Option<Walk> {
     let rim = RimCircle::new(disc, y);
-    // contact starts where the rim is below the rock itself ...
-    let f_start = |t: f64| {
-        let (s, c) = t.sin_cos();
-        rim.overlap(map, s, c, dir, look).0
-    };
-    // ... and lasts while it is below the rock here or one cell ahead
-    let f_end = |t: f64| {
-        let (s, c) = t.sin_cos();
-        rim.overlap(map, s, c, dir, look).1
-    };
     let n = ((reach / step).ceil() as usize).max(1);
     let dt = dir * reach / n as f64;
     let (sd, cd) = dt.sin_cos();
@@ -222,11 +289,12 @@ pub fn walk(
         *c = *c * cd - *s * sd;
         *s = s1;
     };
+    // contact starts where the rim is below the rock itself ...
     let (here0, ahead0) = rim.overlap(map, s, c, dir, look);
     let mut k = 0;
     let mut u_max = here0.max(0.0);
-    let (a, mut t_prev, mut u_prev) = if here0 > 0.0 {
-        (theta0, theta0, ahead0)
+    let (a, a_out, mut t_prev, mut u_prev) = if here0 > 0.0 {
+        (theta0, None, theta0, ahead0)
     } else {
         let (mut tp, mut up) = (theta0, here0);
         loop {
@@ -239,35 +307,58 @@ pub fn walk(
             let (here, ahead) = rim.overlap(map, s, c, dir, look);
             if here > 0.0 {
                 u_max = here;
-                break (refine(&f_start, t, tp, here, up, ANGLE_TOL), t, ahead);
+                break (t, Some((tp, up, here)), t, ahead);
             }
             tp = t;
             up = here;
         }
     };
-    let b = loop {
+    // ... and lasts while it is below the rock here or one cell ahead
+    let b_out = loop {
         k += 1;
         if k > n {
-            break theta0 + dt * n as f64;
+            break None;
         }
         advance(&mut s, &mut c);
         let t = theta0 + dt * k as f64;
         let (here, ahead) = rim.overlap(map, s, c, dir, look);
         if ahead <= 0.0 {
-            break refine(&f_end, t_prev, t, u_prev, ahead, ANGLE_TOL);
+            break Some((t, ahead));
         }
         u_max = u_max.max(here);
         t_prev = t;
         u_prev = ahead;
     };
-    Some(Arc {
+    Some(Walk {
+        y,
+        dir,
         a,
-        b,
-        depth: (rim.z(b) - rim.z(a)).max(0.0),
-        length: disc.rho(y) * (b - a).abs(),
+        a_out,
+        b_in: (t_prev, u_prev),
+        b_out,
         u_max,
     })
 }
+
+/// Walks one side of one slice and refines both ends (see [`march`]).
+#[allow(clippy::too_many_arguments)]
+pub fn walk(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    y: f64,
+    theta0: f64,
+    reach: f64,
+    dir: f64,
+    step: f64,
+    look: f64,
+) -> Option<Arc> {
+    march(map, disc, y, theta0, reach, dir, step, look)
+        .map(|w| w.finish(map, disc, look, true, ANGLE_TOL))
+}
+
+/// A side whose blend weight cannot exceed this is not refined: its arcs
+/// change the force by less than this fraction.
+const NEGLIGIBLE_WEIGHT: f64 = 1e-14;
 
 /// The contact of `disc` with `map` under `law` (kerf's direction rule).
 pub fn contact(
@@ -299,10 +390,10 @@ pub fn contact(
     let h = disc.half_width;
     let tr = disc.tip_radius;
 
-    // per slice, both sides; the governing slice is the deepest
-    let mut arcs = [[None::<Arc>; 2]; 101];
-    let mut gov: Option<(usize, f64)> = None;
-    for k in 0..n {
+    // per slice, both sides: march first, then refine the ends of the arcs
+    // on every side whose weight in the blend can matter
+    let mut walks = [[None::<Walk>; 2]; 101];
+    for (k, pair) in walks.iter_mut().enumerate().take(n) {
         let y = slice_y(h, n, k);
         let rho = disc.rho(y);
         let Some((theta0, reach)) = disc.arc_below(y, rho, z_top) else {
@@ -310,7 +401,7 @@ pub fn contact(
         };
         let step = num.arc_step_cells * cell / rho;
         for (s, dir) in [(0usize, 1.0f64), (1, -1.0)] {
-            let arc = walk(
+            pair[s] = march(
                 map,
                 disc,
                 y,
@@ -320,6 +411,35 @@ pub fn contact(
                 step,
                 look,
             );
+        }
+    }
+    let mut lo = [0.0f64; 2];
+    let mut hi = [0.0f64; 2];
+    for pair in walks.iter().take(n) {
+        for s in 0..2 {
+            if let Some(w) = pair[s] {
+                lo[s] = lo[s].max(w.depth_to(disc, w.b_in.0));
+                hi[s] = hi[s].max(w.depth_bound(disc));
+            }
+        }
+    }
+    let matters = |s: usize| {
+        let (me, other) = (hi[s].powi(4), lo[1 - s].powi(4));
+        me + other == 0.0 || me / (me + other) > NEGLIGIBLE_WEIGHT
+    };
+    let refine_side = [matters(0), matters(1)];
+    // slices that may turn out deepest get the fine tolerance
+    let deepest_lo = lo[0].max(lo[1]);
+    let mut arcs = [[None::<Arc>; 2]; 101];
+    let mut gov: Option<(usize, f64)> = None;
+    for k in 0..n {
+        let may_govern = walks[k]
+            .iter()
+            .flatten()
+            .any(|w| w.depth_bound(disc) >= deepest_lo);
+        let tol = if may_govern { ANGLE_TOL } else { LEAN_TOL };
+        for s in 0..2 {
+            let arc = walks[k][s].map(|w| w.finish(map, disc, look, refine_side[s], tol));
             if let Some(a) = arc {
                 if gov.is_none_or(|(_, d)| a.depth > d) {
                     gov = Some((k, a.depth));

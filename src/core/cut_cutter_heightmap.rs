@@ -86,11 +86,23 @@ fn sweep_nodes<M: Nodes>(
     let horizontal = d.y.abs() < 1e-12;
     let step = rt.column(0) * g.dx;
     let h = disc.half_width;
+    // a row along which y_local is constant (axle horizontal, heading along
+    // a grid axis) has one rim circle, whose lowest point bounds the cut
+    let const_row = horizontal && step.y == 0.0;
     for j in j0..=j1 {
         let (x0, y) = g.node_xy(i0, j);
         let mut a =
             rt * nalgebra::Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);
+        let floor = if const_row && a.y.abs() <= h {
+            disc.centre.z - disc.rho(a.y) + elastic_depth + CUT_TOLERANCE
+        } else {
+            f64::NEG_INFINITY
+        };
         for i in i0..=i1 {
+            if map.map().node(i, j) <= floor {
+                a += step;
+                continue;
+            }
             let z_low = if horizontal {
                 // axle horizontal: local coordinates are affine along a row and
                 // the lower boundary is the rim circle of radius rho(y_local)

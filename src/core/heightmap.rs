@@ -32,17 +32,28 @@ pub struct Grid {
     pub dy: f64,
     pub nx: usize,
     pub ny: usize,
+    /// `1/dx`, `1/dy` and the last cell's far edge in cell units, for queries.
+    inv_dx: f64,
+    inv_dy: f64,
+    u_max: f64,
+    v_max: f64,
 }
 
 impl Grid {
     pub fn new(x_min: f64, x_max: f64, y_min: f64, y_max: f64, nx: usize, ny: usize) -> Self {
+        let dx = (x_max - x_min) / (nx - 1) as f64;
+        let dy = (y_max - y_min) / (ny - 1) as f64;
         Self {
             x_min,
             y_min,
-            dx: (x_max - x_min) / (nx - 1) as f64,
-            dy: (y_max - y_min) / (ny - 1) as f64,
+            dx,
+            dy,
             nx,
             ny,
+            inv_dx: 1.0 / dx,
+            inv_dy: 1.0 / dy,
+            u_max: (nx - 1) as f64,
+            v_max: (ny - 1) as f64,
         }
     }
 
@@ -242,9 +253,9 @@ impl HeightMap {
     #[inline]
     pub fn bilinear(&self, x: f64, y: f64) -> f64 {
         let g = &self.grid;
-        let u = (x - g.x_min) / g.dx;
-        let v = (y - g.y_min) / g.dy;
-        if !(u >= 0.0 && v >= 0.0 && u <= (g.nx - 1) as f64 && v <= (g.ny - 1) as f64) {
+        let u = (x - g.x_min) * g.inv_dx;
+        let v = (y - g.y_min) * g.inv_dy;
+        if !(u >= 0.0 && v >= 0.0 && u <= g.u_max && v <= g.v_max) {
             return NO_ROCK;
         }
         let i = (u as usize).min(g.nx - 2);
@@ -260,9 +271,9 @@ impl HeightMap {
     #[inline]
     pub fn height(&self, x: f64, y: f64) -> f64 {
         let g = &self.grid;
-        let u = (x - g.x_min) / g.dx;
-        let v = (y - g.y_min) / g.dy;
-        if !(u >= 0.0 && v >= 0.0 && u <= (g.nx - 1) as f64 && v <= (g.ny - 1) as f64) {
+        let u = (x - g.x_min) * g.inv_dx;
+        let v = (y - g.y_min) * g.inv_dy;
+        if !(u >= 0.0 && v >= 0.0 && u <= g.u_max && v <= g.v_max) {
             return NO_ROCK;
         }
         let i = (u as usize).min(g.nx - 2);

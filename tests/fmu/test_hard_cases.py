@@ -20,12 +20,23 @@ the FMU) and F_csm the CSM resultant T R phi P' as the FMU regularises it below
 p_reg = 50 um.  The 5 % is what a 1 mm height map can explain: the end of the
 contact arc is known to a cell (T P' dx = 1.5 kN, 2.5 % of the reference
 force), and the elastic contact behind the lowest point (p- ~ 10 um, up to
-2.4 kN) may vanish in one step where the leading arc vanishes.  Two real
-discontinuities are exempt and say so where they occur: the first samples of a
-cutter that starts to move out of its own symmetric pit (the trailing side of
-the pit unloads within the 2 um elastic layer, i.e. within the first step), and
-the moment a rim reaches a vertical step in the face (the depth of the contact
-zone, eq. 54, grows by the step height at once).
+2.4 kN) may vanish in one step where the leading arc vanishes.  Real
+discontinuities are exempt, and say so where they occur:
+  * the first START samples of a cutter that starts to move out of the pit it
+    was pressed into at rest (the trailing side of the pit unloads within the
+    2 um elastic layer, i.e. within the first step), also where the host puts
+    the cutter back into its start pit for a second pass;
+  * the moment a rim reaches a vertical step in the face (the depth of the
+    contact zone, eq. 54, grows by the step height at once);
+  * a second pass stops short of the end wall of the first groove, which has
+    the rim's own shape and would be met by the whole leading arc at once.
+
+Cases that reveal a defect of the FMU are kept and marked xfail(strict=True)
+with the reproduction in the reason: contact starting late (with a jump) when
+rolling into the end face of the rock; the force not scaling with the width of
+tip on the rock when sliding off the side edge; the trailing side of a rest
+pit driving a cutter that rolls away (the rock doing work on it); ME's
+cuttingEnergy missing the friction work of a skidding cutter.
 
 Reference numbers (interface.md, thesis eqs 13-17): R = 0.2159 m, T = 0.013 m,
 p = 3.8 mm: F_N = 60795 N, F_R = 5728.5 N, F_t = 61065 N; friction mu = 0.3

@@ -479,11 +479,12 @@ def test_entering_the_face_from_outside_starts_at_zero_and_reaches_the_steady_cu
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "contact with a short arc is stepped over: rolling at 3.8 mm into the end face of the rock "
-    "(x = -0.25), the rim is 0.08, 0.27, 0.45, 0.62 mm inside the rock at x = -0.2899.."
-    "-0.2869 and the FMU reports 0 N (inContact false), then 28.8 kN at once (p = 0.79 mm) "
-    "at x = -0.2859; with numerics.arcStepCells = 1 (or 0.25) contact still starts late, "
-    "0 N at 0.08 mm then 16.8 kN at 0.27 mm (law: 8.9 kN -> 16.2 kN)"))
+    "contact starts late when rolling at 3.8 mm into the end face of the rock (x = -0.25): at "
+    "x = -0.2899 the rim is 0.08 mm inside the rock over ~0.4 mm of arc (CSM: 8.9 kN) and the "
+    "FMU reports 0 N (inContact false), then 16.8 kN at once at x = -0.2889 (p = 0.27 mm, "
+    "CSM 16.2 kN): a 16.8 kN jump where the law explains 7.3 kN (+3 kN slack); the same with "
+    "numerics.arcStepCells = 1 or 0.25.  (Before 9f223ba contact started even later: 0 N "
+    "up to 0.62 mm inside, then 28.8 kN.)"))
 @pytest.mark.parametrize("kind", KINDS)
 def test_entering_the_face_force_grows_without_a_jump(fmu, kind):
     """Same run.  Physics: the contact arc begins at the rock's end face with zero

@@ -311,6 +311,24 @@ fn face_cost(w: f64, steps: usize, base: Option<BaselineResolution>, reps: usize
     ]
 }
 
+/// The C host's scene on the core: default parameters (1.5 m x 0.2 m face,
+/// 1 mm cells), 1000 steps of 1 ms; median and quartiles \[us\].
+fn core_scene(reps: usize) -> [f64; 3] {
+    let mut ts = Vec::new();
+    for _ in 0..reps {
+        let mut m = Model::new(Params::default()).unwrap();
+        let tw = rolling_twist();
+        let mut pose = start_pose(0.0, 0.0);
+        for _ in 0..1000 {
+            let t = Instant::now();
+            pose = m.advance(&pose, &tw, 1e-3).unwrap();
+            m.evaluate(&pose, &tw).unwrap();
+            ts.push(t.elapsed().as_secs_f64() * 1e6);
+        }
+    }
+    [0.5, 0.25, 0.75].map(|q| quantile(&mut ts, q))
+}
+
 fn json_num(x: f64) -> String {
     if x.is_finite() {
         format!("{x:.6e}")
@@ -329,6 +347,15 @@ fn main() {
     let out = get("--out").unwrap_or_else(|| "target/speed-vs-error/rows.json".into());
     let reps: usize = get("--reps").map_or(3, |s| s.parse().unwrap());
     let quick = args.iter().any(|a| a == "--quick");
+    if args.iter().any(|a| a == "--core-scene") {
+        // one line of JSON, for scripts/speed-vs-error to interleave with the C host
+        let q = core_scene(reps);
+        println!(
+            "{{\"us_median\": {:.3}, \"us_p25\": {:.3}, \"us_p75\": {:.3}}}",
+            q[0], q[1], q[2]
+        );
+        return;
+    }
     let t_all = Instant::now();
 
     let mut settings = vec![kerf("defaults", "defaults", 1.0, 1.0, |_| {})];
@@ -364,6 +391,20 @@ fn main() {
             50.0,
             |p| p.numerics.sweep_step = s * 1e-3,
         ));
+    }
+    for e in [0.5, 10.0, 50.0] {
+        settings.push(kerf(
+            &format!("elastic_depth {e} um"),
+            "elastic_depth",
+            1.0,
+            1.0,
+            |p| p.numerics.elastic_depth = e * 1e-6,
+        ));
+    }
+    for r in [10.0, 200.0] {
+        settings.push(kerf(&format!("p_reg {r} um"), "p_reg", 1.0, 1.0, |p| {
+            p.numerics.p_reg = r * 1e-6
+        }));
     }
     // combinations towards either end of the trade
     settings.push(kerf("cell 2 mm, tip 5, arc 8", "combo", 2.0, 1.0, |p| {
@@ -474,7 +515,7 @@ fn main() {
             rows,
             "  {{\"label\": \"{}\", \"group\": \"{}\", \"model\": \"{}\", \"cell_mm\": {}, \"tip_slices\": {}, \
 \"arc_step_cells\": {}, \"sweep_step_mm\": {}, \"step_mm\": {}, \"n_alpha\": {na}, \"n_y\": {ny}, \
-\"nodes\": {}, \"normal\": {}, \"rolling\": {}, \"side\": {}, \"err_normal\": {}, \"err_rolling\": {}, \
+\"elastic_depth_um\": {}, \"p_reg_um\": {}, \"nodes\": {}, \"normal\": {}, \"rolling\": {}, \"side\": {}, \"err_normal\": {}, \"err_rolling\": {}, \
 \"err_side\": {}, \"err_volume\": {}, \"err_tilt\": {}, \"err_groove\": {}, \"us_median\": {}, \
 \"us_p25\": {}, \"us_p75\": {}, \"us_min\": {}, \"us_max\": {}, \"us_per_call\": {}, \"samples\": {}, \
 \"memory_bytes\": {memory}}}{}\n",
@@ -486,6 +527,8 @@ fn main() {
             n.arc_step_cells,
             n.sweep_step * 1e3,
             s.step_mm,
+            n.elastic_depth * 1e6,
+            n.p_reg * 1e6,
             s.params.rock.nx * s.params.rock.ny,
             json_num(fl.force[0]),
             json_num(fl.force[1]),
@@ -542,22 +585,8 @@ fn main() {
     }
     fj.push(']');
 
-    // the C host's scene, on the core: default parameters, 1000 steps of 1 ms
-    let fmu_scene = {
-        let mut ts = Vec::new();
-        for _ in 0..reps {
-            let mut m = Model::new(Params::default()).unwrap();
-            let tw = rolling_twist();
-            let mut pose = start_pose(0.0, 0.0);
-            for _ in 0..1000 {
-                let t = Instant::now();
-                pose = m.advance(&pose, &tw, 1e-3).unwrap();
-                m.evaluate(&pose, &tw).unwrap();
-                ts.push(t.elapsed().as_secs_f64() * 1e6);
-            }
-        }
-        [0.5, 0.25, 0.75].map(|q| quantile(&mut ts, q))
-    };
+    // the C host's scene, on the core
+    let fmu_scene = core_scene(reps);
     eprintln!("core on the FMU scene: median {:.1} us", fmu_scene[0]);
 
     let (fnn, frr) = csm();

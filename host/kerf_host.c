@@ -13,7 +13,11 @@
  * Build (scripts/speed-vs-error does this):
  *   cc -O2 -std=c11 -o target/speed-vs-error/kerf_host host/kerf_host.c -ldl
  * Run:
- *   kerf_host [libkerf.so] [modelDescription.xml] [steps] [reps]
+ *   kerf_host [libkerf.so] [modelDescription.xml] [steps] [reps] [set|carry]
+ *
+ * Mode `set` (default) sets the pose inputs x = v t for every communication
+ * point, as a host driving the cutter from a multibody model does; `carry`
+ * sets them once and lets the FMU carry its own end pose into the next step.
  *
  * The few fmi2 types and prototypes are declared here (they match
  * fmi2TypesPlatform.h / fmi2FunctionTypes.h of the FMI 2.0 standard), so no
@@ -157,6 +161,9 @@ int main(int argc, char **argv) {
     const char *xml_path = argc > 2 ? argv[2] : "modelDescription/modelDescription.xml";
     int steps = argc > 3 ? atoi(argv[3]) : 1000;
     int reps = argc > 4 ? atoi(argv[4]) : 3;
+    const char *mode = argc > 5 ? argv[5] : "set";
+    int carry = strcmp(mode, "carry") == 0;
+    if (!carry && strcmp(mode, "set") != 0) die("mode must be set or carry", mode);
     if (steps < 1 || reps < 1) die("steps and reps must be positive", NULL);
 
     char *xml = read_file(xml_path);
@@ -202,7 +209,8 @@ int main(int argc, char **argv) {
             double t = s * h;
             in[X] = v * t; /* the pose for the communication point t */
             double t0 = now_us();
-            if (set_real(c, in_vr, NIN, in) > fmi2Warning) die("fmi2SetReal failed", NULL);
+            if (!carry && set_real(c, in_vr, NIN, in) > fmi2Warning)
+                die("fmi2SetReal failed", NULL);
             double t1 = now_us();
             if (do_step(c, t, h, 1) > fmi2Warning) die("fmi2DoStep failed", NULL);
             double t2 = now_us();
@@ -215,12 +223,12 @@ int main(int argc, char **argv) {
         }
         free_instance(c);
     }
-    printf("{\"library\": \"%s\", \"steps\": %d, \"reps\": %d, \"step_s\": %g, "
+    printf("{\"library\": \"%s\", \"mode\": \"%s\", \"steps\": %d, \"reps\": %d, \"step_s\": %g, "
            "\"dostep_us_median\": %.3f, \"dostep_us_p25\": %.3f, \"dostep_us_p75\": %.3f, "
            "\"dostep_us_min\": %.3f, \"step_us_median\": %.3f, \"step_us_p25\": %.3f, "
            "\"step_us_p75\": %.3f, \"mean_normal\": %.1f, \"mean_rolling\": %.1f, "
            "\"mean_side\": %.1f}\n",
-           lib_path, steps, reps, h, quantile(t_do, n, 0.5), quantile(t_do, n, 0.25),
+           lib_path, mode, steps, reps, h, quantile(t_do, n, 0.5), quantile(t_do, n, 0.25),
            quantile(t_do, n, 0.75), quantile(t_do, n, 0.0), quantile(t_all, n, 0.5),
            quantile(t_all, n, 0.25), quantile(t_all, n, 0.75), sum[0], sum[1], sum[2]);
     free(t_do);

@@ -399,3 +399,78 @@ fn energy_and_specific_energy_follow_the_rolling_force() {
     );
     assert!(rel(o.specific_energy, o.cutting_energy / o.excavated_volume) < 1e-12);
 }
+
+#[test]
+fn model_exchange_commits_cut_the_whole_path_between_events() {
+    // events 10 mm apart leave the same groove as events 1 mm apart (a CVode
+    // host takes long steps); a jump that no step can make is not a path
+    let p = 3.8e-3;
+    let tw = Twist::new([1.0, 0.0, 0.0], [0.0, 1.0 / R, 0.0]);
+    let volume = |every: f64| {
+        let mut m = Model::new(Params::default()).unwrap();
+        let n = (0.3 / every).round() as usize;
+        for k in 0..=n {
+            let pose = Pose::new(k as f64 * every, 0.0, R - p, 0.0, 0.0, 0.0);
+            m.commit(&pose, &tw, every).unwrap();
+        }
+        m.evaluate(&Pose::new(0.3, 0.0, R - p, 0.0, 0.0, 0.0), &tw)
+            .unwrap()
+            .excavated_volume
+    };
+    let (fine, coarse) = (volume(1e-3), volume(10e-3));
+    assert!(rel(coarse, fine) < 5e-3, "{coarse} vs {fine}");
+    // a host that puts the cutter 0.5 m further to start a new pass does not
+    // cut a trench along the jump
+    let mut m = Model::new(Params::default()).unwrap();
+    m.commit(
+        &Pose::new(0.0, 0.0, R - p, 0.0, 0.0, 0.0),
+        &Twist::default(),
+        0.0,
+    )
+    .unwrap();
+    let pit = m
+        .evaluate(&Pose::new(0.0, 0.0, R - p, 0.0, 0.0, 0.0), &tw)
+        .unwrap()
+        .excavated_volume;
+    m.commit(
+        &Pose::new(0.5, 0.0, R - p, 0.0, 0.0, 0.0),
+        &Twist::default(),
+        1e-3,
+    )
+    .unwrap();
+    let two = m
+        .evaluate(&Pose::new(0.5, 0.0, R - p, 0.0, 0.0, 0.0), &tw)
+        .unwrap()
+        .excavated_volume;
+    assert!(rel(two, 2.0 * pit) < 1e-6, "{two} vs {}", 2.0 * pit);
+}
+
+#[test]
+fn rolling_into_the_end_face_is_felt_at_the_first_sample_that_touches_it() {
+    // the rock ends at x = -0.25: rolling in at 3.8 mm, the first contact is
+    // a short arc at the face's top edge; it must be found when the rim is
+    // first inside the rock, not a few samples later
+    let p = 3.8e-3;
+    let mut m = Model::new(Params::default()).unwrap();
+    let tw = Twist::new([1.0, 0.0, 0.0], [0.0, 1.0 / R, 0.0]);
+    let mut pose = Pose::new(-0.30, 0.0, R - p, 0.0, 0.0, 0.0);
+    let mut first = None;
+    for _ in 0..60 {
+        let next = kerf::core::pose::advance_pose(&pose, &tw, 1e-3);
+        let o = m.evaluate(&next, &tw).unwrap();
+        // the rim's exit from z = 0 lies at x_c + R sin(phi); it touches rock
+        // once that passes the face
+        let reach = next.position.x + R * ((R - p) / R).acos().sin();
+        if reach > -0.25 && first.is_none() {
+            first = Some(o.normal_force);
+        }
+        if reach <= -0.25 {
+            assert_eq!(o.normal_force, 0.0);
+        }
+        pose = m.advance(&pose, &tw, 1e-3).unwrap();
+    }
+    assert!(
+        first.unwrap() > 0.0,
+        "contact missed at the first touching sample"
+    );
+}

@@ -47,7 +47,7 @@
 use nalgebra::Vector3;
 
 use super::csm::{contact_angle, CsmLaw};
-use super::cutter::{Face, PosedDisc};
+use super::cutter::{wrap, Face, PosedDisc};
 use super::heightmap::HeightMap;
 use super::params::Numerics;
 
@@ -144,6 +144,20 @@ impl RimCircle {
         } else {
             (here, here)
         }
+    }
+
+    /// Angles where the rim's world coordinate `axis` (0 = x, 1 = y) equals `e`.
+    fn crossings(&self, axis: usize, e: f64) -> Vec<f64> {
+        // base + ex sin + ez cos = e  <=>  m cos(theta - tm) = e - base
+        let (a, b) = (self.ex[axis], self.ez[axis]);
+        let m = (a * a + b * b).sqrt();
+        let rhs = e - self.base[axis];
+        if m < 1e-15 || rhs.abs() > m {
+            return Vec::new();
+        }
+        let tm = a.atan2(b);
+        let d = (rhs / m).acos();
+        vec![tm + d, tm - d]
     }
 
     fn z(&self, theta: f64) -> f64 {
@@ -293,26 +307,51 @@ pub fn march(
     let (here0, ahead0) = rim.overlap(map, s, c, dir, look);
     let mut k = 0;
     let mut u_max = here0.max(0.0);
-    let (a, a_out, mut t_prev, mut u_prev) = if here0 > 0.0 {
+    let (a, a_out, t_prev, u_prev) = if here0 > 0.0 {
         (theta0, None, theta0, ahead0)
     } else {
-        let (mut tp, mut up) = (theta0, here0);
-        loop {
-            k += 1;
-            if k > n {
-                return None;
+        // the lowest point is out of the rock: search for the start with a
+        // step of half a cell of rim, so that a short arc (the rim meeting
+        // the end face of the rock, a groove's shoulder) is not stepped over
+        let fine = (look * 0.5 / disc.rho(y)).min(dt.abs());
+        let m = ((reach / fine).ceil() as usize).max(1);
+        let dtf = dir * reach / m as f64;
+        // ... and at the angles where the rim crosses the edges of the map,
+        // where rock begins with a vertical face and an arc can be shorter
+        // than any step
+        let mut angles: Vec<f64> = (1..=m).map(|kf| theta0 + dtf * kf as f64).collect();
+        let g = map.grid();
+        for (axis, edges) in [(0usize, [g.x_min, g.x_max()]), (1, [g.y_min, g.y_max()])] {
+            for e in edges {
+                for t in rim.crossings(axis, e) {
+                    let off = wrap(t - theta0) * dir;
+                    if off > 0.0 && off < reach {
+                        angles.push(theta0 + off * dir);
+                    }
+                }
             }
-            advance(&mut s, &mut c);
-            let t = theta0 + dt * k as f64;
-            let (here, ahead) = rim.overlap(map, s, c, dir, look);
+        }
+        angles.sort_by(|p, q| ((p - theta0) * dir).total_cmp(&((q - theta0) * dir)));
+        let (mut tp, mut up) = (theta0, here0);
+        let mut found = None;
+        for &t in &angles {
+            let (st, ct) = t.sin_cos();
+            let (here, ahead) = rim.overlap(map, st, ct, dir, look);
             if here > 0.0 {
-                u_max = here;
-                break (t, Some((tp, up, here)), t, ahead);
+                found = Some((t, tp, up, here, ahead));
+                break;
             }
             tp = t;
             up = here;
         }
+        let (t, tp, up, here, ahead) = found?;
+        u_max = here;
+        // resume the coarse grid at the last grid angle before the start
+        k = ((t - theta0) / dt).floor().max(0.0) as usize;
+        (s, c) = (theta0 + dt * k as f64).sin_cos();
+        (t, Some((tp, up, here)), t, ahead)
     };
+    let (mut t_prev, mut u_prev) = (t_prev, u_prev);
     // ... and lasts while it is below the rock here or one cell ahead
     let b_out = loop {
         k += 1;

@@ -3,7 +3,7 @@
 
 use std::cell::Cell;
 
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 
 use super::contact_cutter_heightmap::{contact, Contact};
 use super::contact_thesis::contact_thesis;
@@ -48,10 +48,13 @@ pub struct ModelState {
     map: HeightMap,
     excavated_volume: f64,
     cutting_energy: f64,
+    /// Where the rock was last cut (end of the last commit or advance): the
+    /// next Model Exchange commit cuts along the path from here.
+    last_cut: Option<Pose>,
 }
 
 const MAGIC: &[u8; 8] = b"KERFCORE";
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
 
 fn grid_of(params: &Params) -> Grid {
     let r = &params.rock;
@@ -80,6 +83,22 @@ impl ModelState {
             self.cutting_energy,
         ] {
             v.extend_from_slice(&x.to_le_bytes());
+        }
+        match self.last_cut {
+            Some(p) => {
+                v.push(1);
+                for x in [
+                    p.position.x,
+                    p.position.y,
+                    p.position.z,
+                    p.yaw,
+                    p.pitch,
+                    p.roll,
+                ] {
+                    v.extend_from_slice(&x.to_le_bytes());
+                }
+            }
+            None => v.push(0),
         }
         v.extend_from_slice(&(tiles.len() as u64).to_le_bytes());
         for (k, z) in tiles {
@@ -134,6 +153,20 @@ impl ModelState {
         if !(f[5].is_finite() && f[6].is_finite()) {
             return Err(bad("non-finite bookkeeping"));
         }
+        let last_cut = match take(1)?[0] {
+            0 => None,
+            1 => {
+                let mut q = [0f64; 6];
+                for x in &mut q {
+                    *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
+                }
+                let pose = Pose::new(q[0], q[1], q[2], q[3], q[4], q[5]);
+                pose.validate()
+                    .map_err(|_| bad("non-finite last cut pose"))?;
+                Some(pose)
+            }
+            _ => return Err(bad("bad last-cut flag")),
+        };
         let mut map = HeightMap::flat(grid, params.rock.z0);
         let n = u64::from_le_bytes(take(8)?.try_into().unwrap());
         if n > map.tile_count() as u64 {
@@ -158,6 +191,7 @@ impl ModelState {
             map,
             excavated_volume: f[5],
             cutting_energy: f[6],
+            last_cut,
         })
     }
 
@@ -205,6 +239,7 @@ impl Model {
                 map,
                 excavated_volume: 0.0,
                 cutting_energy: 0.0,
+                last_cut: None,
             },
             cache: Cell::new(None),
         })
@@ -318,6 +353,14 @@ impl Model {
         ))
     }
 
+    /// Rate of work of the cutter on the rock at `pose` \[W\]: `-(F.v + M.w)`.
+    /// Non-zero whenever the contact does work (cutting, or friction on a
+    /// skid), which is when the energy bookkeeping has something to add.
+    pub fn power(&self, pose: &Pose, twist: &Twist) -> Result<f64> {
+        let o = self.evaluate(pose, twist)?;
+        Ok(Self::work(&o, twist, 1.0))
+    }
+
     /// Work of the rock force on the cutter over `dt` at `o` (negated: the
     /// work of the cutter on the rock).
     fn work(o: &Outputs, twist: &Twist, dt: f64) -> f64 {
@@ -344,6 +387,15 @@ impl Model {
 
     /// Cuts the rock at `pose` (a Model Exchange event). `dt` is the time since
     /// the previous commit, for the energy bookkeeping. Returns whether the rock changed.
+    ///
+    /// The cut follows the path from the pose of the previous cut, so a
+    /// solver step longer than a cell leaves no uncut rock (the thesis cut
+    /// only at the sampled poses). The path is taken as straight (positions
+    /// linear, orientation by slerp) and cut in sub-steps of at most
+    /// `numerics.sweep_step` of rim travel, when the move is one a step can
+    /// make: shorter than the disc radius, or explained by the velocity
+    /// inputs. A longer jump (a host that moves the cutter to start a new
+    /// pass) is not a path: only the new pose is cut.
     pub fn commit(&mut self, pose: &Pose, twist: &Twist, dt: f64) -> Result<bool> {
         if !(dt.is_finite() && dt >= 0.0) {
             return Err(KerfError::BadInput {
@@ -353,7 +405,30 @@ impl Model {
         }
         let o = self.evaluate(pose, twist)?;
         self.state.cutting_energy += Self::work(&o, twist, dt);
-        Ok(self.cut_at(pose))
+        let mut changed = false;
+        if let Some(prev) = self.state.last_cut {
+            let jump = (pose.position - prev.position).norm();
+            let explained = jump <= 2.0 * twist.velocity.norm() * dt + self.params.cutter.radius;
+            if explained && prev != *pose {
+                let (q0, q1) = (
+                    UnitQuaternion::from_rotation_matrix(&prev.rotation()),
+                    UnitQuaternion::from_rotation_matrix(&pose.rotation()),
+                );
+                let travel = jump + q0.angle_to(&q1) * self.params.cutter.radius;
+                let n = (travel / self.params.numerics.sweep_step)
+                    .ceil()
+                    .clamp(1.0, 1.0e6) as usize;
+                for k in 1..n {
+                    let t = k as f64 / n as f64;
+                    let q = q0.slerp(&q1, t);
+                    let p = prev.position + (pose.position - prev.position) * t;
+                    changed |= self.cut_at(&Pose::from_rotation(p, &q.to_rotation_matrix()));
+                }
+            }
+        }
+        changed |= self.cut_at(pose);
+        self.state.last_cut = Some(*pose);
+        Ok(changed)
     }
 
     /// Moves the cutter from `start` along `twist` for `h` seconds, cutting the
@@ -385,6 +460,7 @@ impl Model {
         self.cache.set(None);
         let o1 = self.evaluate(&end, twist)?;
         self.state.cutting_energy += 0.5 * (Self::work(&o0, twist, h) + Self::work(&o1, twist, h));
+        self.state.last_cut = Some(end);
         Ok(end)
     }
 

@@ -964,6 +964,7 @@ impl Instance {
             mask::COMPLETED_INTEGRATOR_STEP,
         )?;
         let pose = self.values.pose();
+        let twist = self.values.twist();
         let model = self
             .model
             .as_ref()
@@ -971,12 +972,19 @@ impl Instance {
         let cuts = model
             .cuts(&pose)
             .map_err(|e| format!("fmi2CompletedIntegratorStep: {e}"))?;
-        if !cuts {
-            // An accepted step that cuts nothing does no work on the rock (the
-            // cutter is out of it, or held still): the energy of the next
-            // commit counts from here, not from the last event.
+        // the discrete state changes when the rock would be cut, or when the
+        // contact does work (cutting, or friction on a skid) that the energy
+        // bookkeeping must add
+        let works = model
+            .power(&pose, &twist)
+            .map_err(|e| format!("fmi2CompletedIntegratorStep: {e}"))?
+            != 0.0;
+        if !(cuts || works) {
+            // no work on the rock since the last event: the energy of the
+            // next commit counts from here
             self.last_commit_time = self.time;
         }
+        let cuts = cuts || works;
         Ok((cuts, false))
     }
 

@@ -3,7 +3,8 @@
 
 A 17 in disc (R 0.2159 m, T 13 mm, r 12.7 mm) rolls without slip (wy = +v/R)
 at v = 1 m/s over 1 m of flat rock (UCS 158 MPa, BTS 6.78 MPa), its centre
-at z = R - 3.8 mm, communication step 1 ms; the host feeds x(t) = v t.
+at z = R - 3.8 mm, communication step 1 ms; the host feeds x(t) = v t
+(--velocity-only: it sets only vx and wy and the FMU carries the pose).
 
 Runs it twice (numerics.directionRule = 1 kerf's rule, 2 the thesis's rule),
 compares the steady mean forces (0.2 m <= x <= 0.8 m) with the CSM closed form
@@ -37,7 +38,8 @@ import kerfhost as kh  # noqa: E402
 LO, HI = 0.2, 0.8  # steady window of travel [m]
 
 
-def run(fmu: kh.FMU, direction_rule: int, final_surface: Path | None, n_steps: int, h: float):
+def run(fmu: kh.FMU, direction_rule: int, final_surface: Path | None, n_steps: int, h: float,
+        feed_x: bool = True):
     sv = {}
     if "numerics.directionRule" in fmu.vars:
         sv["numerics.directionRule"] = direction_rule
@@ -49,7 +51,7 @@ def run(fmu: kh.FMU, direction_rule: int, final_surface: Path | None, n_steps: i
     inst = fmu.instance("CS", name=f"reference-rule{direction_rule}")
     t0 = time.perf_counter()
     try:
-        res = kh.run_line_cs(inst, sv, n_steps=n_steps, h=h)
+        res = kh.run_line_cs(inst, sv, n_steps=n_steps, h=h, feed_x=feed_x)
         inst.f.terminate()  # writes rock.finalSurface
     except Exception:
         for r in inst.log:
@@ -214,6 +216,8 @@ def main(argv=None):
     ap.add_argument("--out", default=str(ROOT / "out"))
     ap.add_argument("--steps", type=int, default=1000, help="communication steps (default 1000 = 1 m)")
     ap.add_argument("--h", type=float, default=1e-3, help="communication step [s] (default 1 ms)")
+    ap.add_argument("--velocity-only", action="store_true",
+                    help="set only vx, wy (the FMU integrates the pose) instead of feeding x(t) = v t")
     a = ap.parse_args(argv)
 
     out = Path(a.out).resolve()
@@ -246,7 +250,7 @@ def main(argv=None):
                               (1, "kerf default (directionRule 1)", rsf)):
         print(f"running: {label} ...", flush=True)
         try:
-            res = run(fmu, rule, surf, a.steps, a.h)
+            res = run(fmu, rule, surf, a.steps, a.h, feed_x=not a.velocity_only)
         except Exception as e:
             traceback.print_exc()
             problems.append(f"{label}: {e}")
@@ -259,7 +263,8 @@ def main(argv=None):
         steadies.append((label, steady(res)))
 
     summary = dict(
-        scene=dict(ref, h=a.h, steps=a.steps, steady_window_m=[LO, HI], fmu=str(fmu_path)),
+        scene=dict(ref, h=a.h, steps=a.steps, steady_window_m=[LO, HI], fmu=str(fmu_path),
+                   host_feeds_x=not a.velocity_only),
         csm_theory={k: theory[k] for k in ("phi", "P", "Ft", "FN", "FR")},
         thesis_table3_kN={k: dict(zip(("normal", "rolling", "side"), v)) for k, v in kh.TABLE3.items()},
         kerf={},

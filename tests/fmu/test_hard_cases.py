@@ -406,14 +406,7 @@ def test_spinning_in_place_friction_resists_the_skid(fmu, kind):
     assert res["My"] == pytest.approx(-R * MU * fn, rel=1e-2)
 
 
-ME_SKID_ENERGY_BUG = pytest.mark.xfail(strict=True, reason=(
-    "ME cuttingEnergy misses friction work when no rock is cut: a cutter spinning in place "
-    "(x = 0.5, z = 0.2121, wy = 5, CVode, 0.1 s) does -My wy = 19.8 kW of friction work on "
-    "the rock (CS counts 1978 J), but fmi2CompletedIntegratorStep finds no cut, asks for no "
-    "event and restarts the work interval (last_commit_time = time), so ME reports 0 J"))
-
-
-@pytest.mark.parametrize("kind", ["CS", pytest.param("ME", marks=ME_SKID_ENERGY_BUG)])
+@pytest.mark.parametrize("kind", KINDS)
 def test_spinning_in_place_friction_work_goes_into_cutting_energy(fmu, kind):
     """Same spin.  Physics: friction on the skidding rim is work done by the
     cutter on the rock: cuttingEnergy grows at -My wy = R mu F_t wy = 19.8 kW
@@ -478,13 +471,6 @@ def test_entering_the_face_from_outside_starts_at_zero_and_reaches_the_steady_cu
     assert np.mean(res["rollingForce"][st]) == pytest.approx(FR_REF, rel=1e-2)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "contact starts late when rolling at 3.8 mm into the end face of the rock (x = -0.25): at "
-    "x = -0.2899 the rim is 0.08 mm inside the rock over ~0.4 mm of arc (CSM: 8.9 kN) and the "
-    "FMU reports 0 N (inContact false), then 16.8 kN at once at x = -0.2889 (p = 0.27 mm, "
-    "CSM 16.2 kN): a 16.8 kN jump where the law explains 7.3 kN (+3 kN slack); the same with "
-    "numerics.arcStepCells = 1 or 0.25.  (Before 9f223ba contact started even later: 0 N "
-    "up to 0.62 mm inside, then 28.8 kN.)"))
 @pytest.mark.parametrize("kind", KINDS)
 def test_entering_the_face_force_grows_without_a_jump(fmu, kind):
     """Same run.  Physics: the contact arc begins at the rock's end face with zero

@@ -511,14 +511,14 @@ fn main() {
             q[0],
             t.elapsed().as_secs_f64()
         );
-        let _ = write!(
+        let _ = writeln!(
             rows,
             "  {{\"label\": \"{}\", \"group\": \"{}\", \"model\": \"{}\", \"cell_mm\": {}, \"tip_slices\": {}, \
 \"arc_step_cells\": {}, \"sweep_step_mm\": {}, \"step_mm\": {}, \"n_alpha\": {na}, \"n_y\": {ny}, \
 \"elastic_depth_um\": {}, \"p_reg_um\": {}, \"nodes\": {}, \"normal\": {}, \"rolling\": {}, \"side\": {}, \"err_normal\": {}, \"err_rolling\": {}, \
 \"err_side\": {}, \"err_volume\": {}, \"err_tilt\": {}, \"err_groove\": {}, \"us_median\": {}, \
 \"us_p25\": {}, \"us_p75\": {}, \"us_min\": {}, \"us_max\": {}, \"us_per_call\": {}, \"samples\": {}, \
-\"memory_bytes\": {memory}}}{}\n",
+\"memory_bytes\": {memory}}}{}",
             s.label,
             s.group,
             if s.baseline.is_some() { "baseline" } else { "kerf" },
@@ -549,7 +549,7 @@ fn main() {
             if idx + 1 < all.len() { "," } else { "" }
         );
     }
-    rows.push_str("]");
+    rows.push(']');
 
     // cost against the size of the face (1 mm cells, reference cut)
     eprintln!("face scaling ...");

@@ -382,4 +382,53 @@ mod tests {
             m.map().node(i, j)
         );
     }
+
+    #[test]
+    fn whole_face_deform_cuts_every_node_the_disc_reaches_for_a_tilted_disc() {
+        // the thesis's shadow test (node inside the disc) must not miss a node
+        // whose vertical meets the disc below the face: after one commit every
+        // node is min(z0, lower boundary), checked by brute force
+        let params = small_params();
+        for roll in [0.0f64, 30.0, 60.0] {
+            // lowest point of the posed disc 4 mm into the face at (0.1, 0)
+            let probe = Pose::new(0.1, 0.0, 1.0, 0.0, 0.0, roll.to_radians());
+            let d = PosedDisc::new(&params.cutter, &probe);
+            let low = (0..=400)
+                .filter_map(|k| {
+                    let y = -d.half_width + 2.0 * d.half_width * k as f64 / 400.0;
+                    let (t0, _) = d.arc_below(y, d.rho(y), 10.0)?;
+                    Some(d.to_world(&d.rim_point_local(t0, y)))
+                })
+                .min_by(|a, b| a.z.total_cmp(&b.z))
+                .unwrap();
+            let pose = Pose::new(
+                0.1,
+                -low.y,
+                1.0 - low.z - 0.004,
+                0.0,
+                0.0,
+                roll.to_radians(),
+            );
+            let mut b = BaselineModel::new(params.clone(), BaselineResolution::default()).unwrap();
+            b.commit(&pose, &Twist::default(), 0.0).unwrap();
+            let disc = PosedDisc::new(&params.cutter, &pose);
+            let g = *b.map().grid();
+            let mut cut = 0;
+            for j in 0..g.ny {
+                for i in 0..g.nx {
+                    let (x, y) = g.node_xy(i, j);
+                    let want = disc.lower_boundary(x, y).map_or(0.0, |(z, _)| z.min(0.0));
+                    let got = b.map().node(i, j);
+                    if got < 0.0 {
+                        cut += 1;
+                    }
+                    assert!(
+                        (got - want).abs() < 1e-12,
+                        "roll {roll}: node ({i},{j}) {got} vs {want}"
+                    );
+                }
+            }
+            assert!(cut > 50, "roll {roll}: only {cut} nodes cut");
+        }
+    }
 }

@@ -177,12 +177,35 @@ impl PosedDisc {
             bb[3] = bb[3].max(p.y);
             any = true;
         };
-        // Every rim circle (radius rho(y) <= R, centre on the axle segment)
-        // lies inside the radius-R circle about the same centre, so the part
-        // of the solid below z_top lies in the hull of the radius-R arcs below
-        // z_top at the two ends of the axle segment (the centre varies
-        // linearly along it); each arc is bounded by its end points and its
-        // x/y extremes. The padding covers rounding.
+        // A tilted axle: the part of the solid below z_top is bounded by the
+        // tilted cylinder's cut, which can bulge past its end arcs; take the
+        // box of the whole disc (rare poses, so the cost does not matter).
+        let axle = self.rot.column(1).into_owned();
+        if axle.z.abs() > 1e-12 {
+            let lowest = self.centre.z
+                - self.radius * (1.0 - axle.z * axle.z).sqrt()
+                - self.half_width * axle.z.abs();
+            if lowest >= z_top {
+                return None;
+            }
+            let ex = self.radius * (1.0 - axle.x * axle.x).max(0.0).sqrt()
+                + self.half_width * axle.x.abs();
+            let ey = self.radius * (1.0 - axle.y * axle.y).max(0.0).sqrt()
+                + self.half_width * axle.y.abs();
+            return Some([
+                self.centre.x - ex,
+                self.centre.x + ex,
+                self.centre.y - ey,
+                self.centre.y + ey,
+            ]);
+        }
+        // Axle horizontal: every rim circle (radius rho(y) <= R, in a vertical
+        // plane, centre on the axle segment) lies inside the radius-R circle
+        // about the same centre, and a horizontal plane cuts that cylinder in
+        // two lines parallel to the axle, so the part of the solid below z_top
+        // lies in the hull of the radius-R arcs below z_top at the two ends of
+        // the axle segment; each arc is bounded by its end points and its x/y
+        // extremes. The padding covers rounding.
         let pad_x = 1e-9;
         let pad_y = 1e-9;
         let rho = self.radius;

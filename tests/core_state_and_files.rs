@@ -292,7 +292,8 @@ fn non_finite_and_absurd_inputs_are_errors_not_panics() {
 
 #[test]
 fn bad_parameters_are_rejected_by_name() {
-    let cases: Vec<(Box<dyn Fn(&mut Params)>, &str)> = vec![
+    type Case = (Box<dyn Fn(&mut Params)>, &'static str);
+    let cases: Vec<Case> = vec![
         (Box::new(|p| p.cutter.radius = -1.0), "cutter.radius"),
         (Box::new(|p| p.cutter.tip_width = 0.03), "cutter.tipWidth"),
         (Box::new(|p| p.rock.nx = 1), "rock.nx"),

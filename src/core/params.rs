@@ -131,7 +131,7 @@ pub struct Numerics {
     pub direction: DirectionRule,
 }
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Params {
     pub cutter: CutterParams,
     pub csm: CsmParams,
@@ -207,17 +207,6 @@ impl Default for Numerics {
     }
 }
 
-impl Default for Params {
-    fn default() -> Self {
-        Self {
-            cutter: CutterParams::default(),
-            csm: CsmParams::default(),
-            friction: FrictionParams::default(),
-            rock: RockParams::default(),
-            numerics: Numerics::default(),
-        }
-    }
-}
 
 fn finite_positive(name: &'static str, v: f64) -> Result<()> {
     if v.is_finite() && v > 0.0 {
@@ -341,7 +330,7 @@ impl Params {
             });
         }
         let n = &self.numerics;
-        if n.tip_slices < 3 || n.tip_slices % 2 == 0 || n.tip_slices > 101 {
+        if n.tip_slices < 3 || n.tip_slices.is_multiple_of(2) || n.tip_slices > 101 {
             return Err(KerfError::BadParameter {
                 name: "numerics.tipSlices",
                 value: n.tip_slices as f64,

@@ -14,7 +14,7 @@
 //!   each, window [0.08, 0.18] m);
 //!
 //! tilt and groove against a converged run (0.25 mm cells, 17 slices, arc
-//! step 1 cell, sweep step 0.25 mm). Times are wall-clock microseconds of one
+//! step 1 cell, sweep step 0.5 mm). Times are wall-clock microseconds of one
 //! `advance` plus one `evaluate`, per millimetre of travel, over the window
 //! of the flat scene, for `reps` repeated runs: median and quartiles.
 
@@ -208,7 +208,8 @@ fn flat(s: &Setting) -> (Pass, usize) {
     (p, sim.memory())
 }
 
-fn tilt(s: &Setting) -> [f64; 3] {
+/// Mean force and median cost \[us per mm\] of the tilted scene.
+fn tilt(s: &Setting) -> ([f64; 3], f64) {
     let mut sim = s.make();
     let roll = 30f64.to_radians();
     let start = start_pose(roll, 0.0);
@@ -217,7 +218,8 @@ fn tilt(s: &Setting) -> [f64; 3] {
         velocity: Vector3::new(1.0, 0.0, 0.0),
         omega: axle / R,
     };
-    pass(sim.as_mut(), start, &tw, s.step_mm * 1e-3, 0.2, 0.08, 0.18).force
+    let mut p = pass(sim.as_mut(), start, &tw, s.step_mm * 1e-3, 0.2, 0.08, 0.18);
+    (p.force, quantile(&mut p.us_per_mm, 0.5))
 }
 
 fn groove(s: &Setting) -> [f64; 3] {
@@ -445,7 +447,7 @@ fn main() {
     let reference = kerf("reference (converged)", "reference", 0.25, 1.0, |p| {
         p.numerics.tip_slices = 17;
         p.numerics.arc_step_cells = 1.0;
-        p.numerics.sweep_step = 0.25e-3;
+        p.numerics.sweep_step = 0.5e-3;
     });
     if quick {
         settings.retain(|s| {
@@ -458,7 +460,7 @@ fn main() {
 
     eprintln!("reference runs (tilt, groove) ...");
     let t = Instant::now();
-    let ref_tilt = tilt(&reference);
+    let ref_tilt = tilt(&reference).0;
     let ref_groove = groove(&reference);
     eprintln!(
         "  tilt {ref_tilt:?} groove {ref_groove:?} ({:.1} s)",
@@ -483,10 +485,15 @@ fn main() {
             fl = Some(p);
         }
         let fl = fl.unwrap();
-        let (et, eg) = if s.group == "reference" {
-            (0.0, 0.0)
+        let (et, eg, us_tilt) = if s.group == "reference" {
+            (0.0, 0.0, f64::NAN)
         } else {
-            (vec_err(tilt(s), ref_tilt), vec_err(groove(s), ref_groove))
+            let (ft, us_tilt) = tilt(s);
+            (
+                vec_err(ft, ref_tilt),
+                vec_err(groove(s), ref_groove),
+                us_tilt,
+            )
         };
         let e_n = (fl.force[0] - fn_csm).abs() / fn_csm;
         let e_r = (fl.force[1] - fr_csm).abs() / fr_csm;
@@ -517,7 +524,7 @@ fn main() {
 \"arc_step_cells\": {}, \"sweep_step_mm\": {}, \"step_mm\": {}, \"n_alpha\": {na}, \"n_y\": {ny}, \
 \"elastic_depth_um\": {}, \"p_reg_um\": {}, \"nodes\": {}, \"normal\": {}, \"rolling\": {}, \"side\": {}, \"err_normal\": {}, \"err_rolling\": {}, \
 \"err_side\": {}, \"err_volume\": {}, \"err_tilt\": {}, \"err_groove\": {}, \"us_median\": {}, \
-\"us_p25\": {}, \"us_p75\": {}, \"us_min\": {}, \"us_max\": {}, \"us_per_call\": {}, \"samples\": {}, \
+\"us_p25\": {}, \"us_p75\": {}, \"us_min\": {}, \"us_max\": {}, \"us_per_call\": {}, \"us_tilt_median\": {}, \"samples\": {}, \
 \"memory_bytes\": {memory}}}{}",
             s.label,
             s.group,
@@ -545,6 +552,7 @@ fn main() {
             json_num(q[3]),
             json_num(q[4]),
             json_num(call_med),
+            json_num(us_tilt),
             us.len(),
             if idx + 1 < all.len() { "," } else { "" }
         );

@@ -36,7 +36,9 @@
 //!
 //! **Side faces.** Where a tilted disc's flat face lies in the rock, every
 //! height-map node under it whose vertical meets the face pushes with the CSM
-//! base pressure over its cell along the face normal.
+//! base pressure over its cell along the face normal, weighted like the rim's
+//! arcs: nodes ahead of the contact's lowest point by the leading weight,
+//! those behind by the trailing one.
 //!
 //! **Elastic layer.** A cut leaves the rock `elastic_depth` inside the rim
 //! (see `cut_cutter_heightmap`), so a cutter held still keeps its contact.
@@ -556,15 +558,23 @@ pub fn contact(
             if let Some((i0, i1, j0, j1)) = g.node_range(bb[0], bb[1], bb[2], bb[3]) {
                 let p_ref = c.penetration.max(num.p_reg);
                 let pressure = law.base_pressure(p_ref, contact_angle(disc.radius, p_ref));
+                // the same leading-arc rule as the rim: a face sliding in its
+                // own plane stays in elastic touch with the rock it cut behind
+                // the lowest point, which carries the trailing weight only
+                let x_split = (disc.rot.transpose() * c.slip_point).x;
                 for j in j0..=j1 {
                     for i in i0..=i1 {
                         let (x, y) = g.node_xy(i, j);
                         if let Some((zl, Face::Side(s))) = disc.lower_boundary(x, y) {
                             let u = map.node(i, j) - zl;
                             if u > 0.0 {
+                                let q = Vector3::new(x, y, zl) - disc.centre;
+                                let lead = (disc.rot.transpose() * q).x >= x_split;
+                                let w = if lead { wp } else { wm };
                                 let n_out = disc.rot * Vector3::new(0.0, s as f64, 0.0);
                                 let area = g.cell_area() / n_out.z.abs().max(0.1);
-                                let f = -n_out * (pressure * area * smoothstep(u / elastic_depth));
+                                let f =
+                                    -n_out * (pressure * area * w * smoothstep(u / elastic_depth));
                                 c.side_force += f;
                                 c.side_moment += (Vector3::new(x, y, zl) - disc.centre).cross(&f);
                                 c.in_contact = true;

@@ -103,6 +103,22 @@ impl PosedDisc {
         if t1 > t2 {
             std::mem::swap(&mut t1, &mut t2);
         }
+        // the solid lies in the radius-R cylinder about the axle: a line that
+        // misses the cylinder within the slab misses the disc
+        let (ca, cb) = (d.x * d.x + d.z * d.z, a.x * d.x + a.z * d.z);
+        let cc = a.x * a.x + a.z * a.z - self.radius * self.radius;
+        if ca > 0.0 {
+            let disc2 = cb * cb - ca * cc;
+            if disc2 < 0.0 {
+                return None;
+            }
+            let (lo, hi) = ((-cb - disc2.sqrt()) / ca, (-cb + disc2.sqrt()) / ca);
+            if hi < t1 || lo > t2 {
+                return None;
+            }
+        } else if cc > 0.0 {
+            return None;
+        }
         let g = |t: f64| {
             let q = a + d * t;
             (q.x * q.x + q.z * q.z).sqrt() - self.rho(q.y.clamp(-h, h))
@@ -111,50 +127,39 @@ impl PosedDisc {
             let qy = a.y + d.y * t1;
             return Some((t1, Face::Side(if qy > 0.0 { 1 } else { -1 })));
         }
-        // golden-section search for the minimum of g on [t1, t2]
-        let (mut lo, mut hi) = (t1, t2);
-        let k = 0.618_033_988_749_895;
-        let mut m1 = hi - k * (hi - lo);
-        let mut m2 = lo + k * (hi - lo);
-        let (mut g1, mut g2) = (g(m1), g(m2));
-        let tol = 1e-12 * (1.0 + self.radius);
-        while hi - lo > tol {
-            if g1 <= 0.0 || g2 <= 0.0 {
-                break;
-            }
-            if g1 < g2 {
-                hi = m2;
-                m2 = m1;
-                g2 = g1;
-                m1 = hi - k * (hi - lo);
-                g1 = g(m1);
-            } else {
-                lo = m1;
-                m1 = m2;
-                g1 = g2;
-                m2 = lo + k * (hi - lo);
-                g2 = g(m2);
-            }
-        }
-        let inside = if g1 <= 0.0 {
-            m1
-        } else if g2 <= 0.0 {
-            m2
-        } else {
-            return None;
+        // g is convex, positive at t1: Newton from t1 climbs monotonically
+        // to its first root while g falls; if g stops falling first, its
+        // minimum is positive and the line misses the disc
+        let r = self.tip_radius;
+        let dg = |t: f64| {
+            let q = a + d * t;
+            let m = (q.x * q.x + q.z * q.z).sqrt().max(1e-300);
+            let y = q.y.clamp(-h, h);
+            let root = (r * r - y * y).max(1e-300).sqrt();
+            (q.x * d.x + q.z * d.z) / m + y / root * d.y
         };
-        // bisection for the entry point between t1 (outside) and `inside`
-        let (mut out, mut inn) = (t1, inside);
+        let mut t = t1;
+        let mut gt = g(t1);
+        let mut inn = f64::NAN;
         for _ in 0..60 {
-            let mid = 0.5 * (out + inn);
-            if g(mid) <= 0.0 {
-                inn = mid;
-            } else {
-                out = mid;
+            let slope = dg(t);
+            if slope >= 0.0 {
+                return None;
             }
-            if inn - out < tol {
+            let next = t - gt / slope;
+            if next > t2 {
+                return None;
+            }
+            let gn = g(next);
+            if gn <= 1e-13 || next - t < 1e-13 {
+                inn = next;
                 break;
             }
+            t = next;
+            gt = gn;
+        }
+        if !inn.is_finite() {
+            return None;
         }
         let qy = (a.y + d.y * inn).clamp(-h, h);
         Some((inn, Face::Rim { y: qy }))
@@ -177,26 +182,35 @@ impl PosedDisc {
             bb[3] = bb[3].max(p.y);
             any = true;
         };
-        // A tilted axle: the part of the solid below z_top is bounded by the
-        // tilted cylinder's cut, which can bulge past its end arcs; take the
-        // box of the whole disc (rare poses, so the cost does not matter).
+        // A tilted axle: every point of the solid shifted along the axle to
+        // the lower end cap (s0 = -h sign(a_z)) gets no higher, and lands in
+        // that cap's radius-R disc; so the part below z_top lies in the cap
+        // disc's segment below z_top swept back along the axle segment
+        // (Minkowski sum with {0, 2h sign(a_z) a}).
         let axle = self.rot.column(1).into_owned();
         if axle.z.abs() > 1e-12 {
-            let lowest = self.centre.z
-                - self.radius * (1.0 - axle.z * axle.z).sqrt()
-                - self.half_width * axle.z.abs();
-            if lowest >= z_top {
-                return None;
+            let s0 = -self.half_width * axle.z.signum();
+            let rho = self.radius;
+            let (t0, dt) = self.arc_below(s0, rho, z_top)?;
+            for th in [t0 - dt, t0 + dt] {
+                add(self.to_world(&Vector3::new(rho * th.sin(), s0, -rho * th.cos())));
             }
-            let ex = self.radius * (1.0 - axle.x * axle.x).max(0.0).sqrt()
-                + self.half_width * axle.x.abs();
-            let ey = self.radius * (1.0 - axle.y * axle.y).max(0.0).sqrt()
-                + self.half_width * axle.y.abs();
+            for axis in 0..2 {
+                let (ra, rb) = (self.rot[(axis, 0)], -self.rot[(axis, 2)]);
+                let tm = ra.atan2(rb);
+                for th in [tm, tm + std::f64::consts::PI] {
+                    if wrap(th - t0).abs() <= dt {
+                        add(self.to_world(&Vector3::new(rho * th.sin(), s0, -rho * th.cos())));
+                    }
+                }
+            }
+            let sweep = axle * (2.0 * self.half_width * axle.z.signum());
+            let pad = 1e-9;
             return Some([
-                self.centre.x - ex,
-                self.centre.x + ex,
-                self.centre.y - ey,
-                self.centre.y + ey,
+                bb[0] + sweep.x.min(0.0) - pad,
+                bb[1] + sweep.x.max(0.0) + pad,
+                bb[2] + sweep.y.min(0.0) - pad,
+                bb[3] + sweep.y.max(0.0) + pad,
             ]);
         }
         // Axle horizontal: every rim circle (radius rho(y) <= R, in a vertical
@@ -320,5 +334,41 @@ mod tests {
             (bb[1] - 0.2159 * dt.sin()).abs() < 1e-9 && (bb[0] + 0.2159 * dt.sin()).abs() < 1e-9
         );
         assert!(bb[3] >= 0.0065 && bb[3] < 0.0065 + 1e-3);
+    }
+
+    #[test]
+    fn footprint_holds_every_point_the_disc_reaches_below_the_top() {
+        // brute force over a fine grid: wherever a vertical meets the solid
+        // below z_top, the point must lie in the footprint box
+        for &(yaw, pitch, roll) in &[
+            (0.0, 0.0, 0.0),
+            (0.3, 0.1, 0.0),
+            (0.0, 0.0, 0.5),
+            (0.7, -0.2, 1.0),
+            (0.0, 0.0, -1.2),
+            (1.0, 0.4, 0.3),
+        ] {
+            let pose = Pose::new(0.0, 0.0, 0.2, yaw, pitch, roll);
+            let d = disc(pose);
+            let z_top = 0.0;
+            let bb = d.footprint_below(z_top);
+            let n = 300;
+            for a in 0..=n {
+                for b in 0..=n {
+                    let x = -0.25 + 0.5 * a as f64 / n as f64;
+                    let y = -0.25 + 0.5 * b as f64 / n as f64;
+                    if let Some((zl, _)) = d.lower_boundary(x, y) {
+                        if zl < z_top {
+                            let bb =
+                                bb.unwrap_or_else(|| panic!("pose {yaw} {pitch} {roll}: no box"));
+                            assert!(
+                                x >= bb[0] && x <= bb[1] && y >= bb[2] && y <= bb[3],
+                                "pose {yaw} {pitch} {roll}: ({x}, {y}) outside {bb:?}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
     }
 }

@@ -11,17 +11,7 @@ fn main() {
     let r = prm.cutter.radius;
     let mut m = Model::new(prm.clone()).unwrap();
     let probe = Pose::new(0.0, 0.0, 1.0, 0.0, 0.0, roll.to_radians());
-    let disc = kerf::core::cutter::PosedDisc::new(&prm.cutter, &probe);
-    let mut low = nalgebra::Vector3::new(0.0, 0.0, f64::INFINITY);
-    for k in 0..=200 {
-        let y = -disc.half_width + 2.0 * disc.half_width * k as f64 / 200.0;
-        if let Some((t0, _)) = disc.arc_below(y, disc.rho(y), 10.0) {
-            let p = disc.to_world(&disc.rim_point_local(t0, y));
-            if p.z < low.z {
-                low = p;
-            }
-        }
-    }
+    let low = kerf::core::cutter::PosedDisc::new(&prm.cutter, &probe).lowest_point();
     let mut pose = Pose::new(
         0.0 - low.x,
         -low.y,

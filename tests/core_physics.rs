@@ -201,18 +201,7 @@ fn heading_along_y_gives_the_same_cutter_frame_forces() {
 fn press(params: Params, roll: f64, depth: f64) -> (Model, Pose) {
     let mut m = Model::new(params).unwrap();
     let probe = Pose::new(0.0, 0.0, 1.0, 0.0, 0.0, roll);
-    // lowest point of the disc: scan the tip profile (edge slices included)
-    let disc = kerf::core::cutter::PosedDisc::new(&m.params().cutter, &probe);
-    let mut low = nalgebra::Vector3::new(0.0, 0.0, f64::INFINITY);
-    for k in 0..=200 {
-        let y = -disc.half_width + 2.0 * disc.half_width * k as f64 / 200.0;
-        if let Some((t0, _)) = disc.arc_below(y, disc.rho(y), 10.0) {
-            let p = disc.to_world(&disc.rim_point_local(t0, y));
-            if p.z < low.z {
-                low = p;
-            }
-        }
-    }
+    let low = kerf::core::cutter::PosedDisc::new(&m.params().cutter, &probe).lowest_point();
     let pose = Pose::new(0.3 - low.x, -low.y, 1.0 - low.z - depth, 0.0, 0.0, roll);
     m.commit(&pose, &Twist::default(), 0.0).unwrap();
     (m, pose)

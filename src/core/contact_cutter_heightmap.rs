@@ -381,22 +381,6 @@ pub fn march(
     })
 }
 
-/// Walks one side of one slice and refines both ends (see [`march`]).
-#[allow(clippy::too_many_arguments)]
-pub fn walk(
-    map: &HeightMap,
-    disc: &PosedDisc,
-    y: f64,
-    theta0: f64,
-    reach: f64,
-    dir: f64,
-    step: f64,
-    look: f64,
-) -> Option<Arc> {
-    march(map, disc, y, theta0, reach, dir, step, look)
-        .map(|w| w.finish(map, disc, look, true, ANGLE_TOL))
-}
-
 /// A side whose blend weight cannot exceed this is not refined: its arcs
 /// change the force by less than this fraction.
 const NEGLIGIBLE_WEIGHT: f64 = 1e-14;

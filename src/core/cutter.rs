@@ -74,6 +74,24 @@ impl PosedDisc {
         self.centre + self.rot * local
     }
 
+    /// Lowest point of the whole disc, rock frame: on the rim, where the
+    /// lowest points of the rim circles (one a slice across the tip, 201
+    /// slices) reach lowest. Exact for an upright or pitched disc; for a
+    /// rolled one within (T/200)^2 / r of the true lowest point.
+    pub fn lowest_point(&self) -> Vector3<f64> {
+        let mut low = Vector3::new(0.0, 0.0, f64::INFINITY);
+        for k in 0..=200 {
+            let y = -self.half_width + 2.0 * self.half_width * k as f64 / 200.0;
+            if let Some((t0, _)) = self.arc_below(y, self.rho(y), f64::MAX) {
+                let p = self.to_world(&self.rim_point_local(t0, y));
+                if p.z < low.z {
+                    low = p;
+                }
+            }
+        }
+        low
+    }
+
     /// Lowest point of the solid on the vertical line through `(x, y)` of the
     /// rock frame: its height and the face it lies on; `None` when the line
     /// misses the disc.
@@ -168,49 +186,24 @@ impl PosedDisc {
     /// Bounding box (rock frame, `[x_lo, x_hi, y_lo, y_hi]`) of the part of the
     /// solid below height `z_top`, or `None` when the whole disc is above it.
     pub fn footprint_below(&self, z_top: f64) -> Option<[f64; 4]> {
-        let mut bb = [
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-        ];
-        let mut any = false;
-        let mut add = |p: Vector3<f64>| {
-            bb[0] = bb[0].min(p.x);
-            bb[1] = bb[1].max(p.x);
-            bb[2] = bb[2].min(p.y);
-            bb[3] = bb[3].max(p.y);
-            any = true;
-        };
-        // A tilted axle: every point of the solid shifted along the axle to
-        // the lower end cap (s0 = -h sign(a_z)) gets no higher, and lands in
-        // that cap's radius-R disc; so the part below z_top lies in the cap
-        // disc's segment below z_top swept back along the axle segment
-        // (Minkowski sum with {0, 2h sign(a_z) a}).
+        // padding for rounding
+        const PAD: f64 = 1e-9;
+        let rho = self.radius;
         let axle = self.rot.column(1).into_owned();
         if axle.z.abs() > 1e-12 {
+            // A tilted axle: every point of the solid shifted along the axle
+            // to the lower end cap (s0 = -h sign(a_z)) gets no higher, and
+            // lands in that cap's radius-R disc; so the part below z_top lies
+            // in the cap disc's segment below z_top swept back along the axle
+            // segment (Minkowski sum with {0, 2h sign(a_z) a}).
             let s0 = -self.half_width * axle.z.signum();
-            let rho = self.radius;
-            let (t0, dt) = self.arc_below(s0, rho, z_top)?;
-            for th in [t0 - dt, t0 + dt] {
-                add(self.to_world(&Vector3::new(rho * th.sin(), s0, -rho * th.cos())));
-            }
-            for axis in 0..2 {
-                let (ra, rb) = (self.rot[(axis, 0)], -self.rot[(axis, 2)]);
-                let tm = ra.atan2(rb);
-                for th in [tm, tm + std::f64::consts::PI] {
-                    if wrap(th - t0).abs() <= dt {
-                        add(self.to_world(&Vector3::new(rho * th.sin(), s0, -rho * th.cos())));
-                    }
-                }
-            }
+            let bb = self.arc_box(s0, rho, z_top)?;
             let sweep = axle * (2.0 * self.half_width * axle.z.signum());
-            let pad = 1e-9;
             return Some([
-                bb[0] + sweep.x.min(0.0) - pad,
-                bb[1] + sweep.x.max(0.0) + pad,
-                bb[2] + sweep.y.min(0.0) - pad,
-                bb[3] + sweep.y.max(0.0) + pad,
+                bb[0] + sweep.x.min(0.0) - PAD,
+                bb[1] + sweep.x.max(0.0) + PAD,
+                bb[2] + sweep.y.min(0.0) - PAD,
+                bb[3] + sweep.y.max(0.0) + PAD,
             ]);
         }
         // Axle horizontal: every rim circle (radius rho(y) <= R, in a vertical
@@ -218,34 +211,47 @@ impl PosedDisc {
         // about the same centre, and a horizontal plane cuts that cylinder in
         // two lines parallel to the axle, so the part of the solid below z_top
         // lies in the hull of the radius-R arcs below z_top at the two ends of
-        // the axle segment; each arc is bounded by its end points and its x/y
-        // extremes. The padding covers rounding.
-        let pad_x = 1e-9;
-        let pad_y = 1e-9;
-        let rho = self.radius;
-        for y in [-self.half_width, self.half_width] {
-            if let Some((t0, dt)) = self.arc_below(y, rho, z_top) {
-                for th in [t0 - dt, t0 + dt] {
-                    add(self.to_world(&Vector3::new(rho * th.sin(), y, -rho * th.cos())));
-                }
-                for axis in 0..2 {
-                    let (ra, rb) = (self.rot[(axis, 0)], -self.rot[(axis, 2)]);
-                    let tm = ra.atan2(rb);
-                    for th in [tm, tm + std::f64::consts::PI] {
-                        if wrap(th - t0).abs() <= dt {
-                            add(self.to_world(&Vector3::new(rho * th.sin(), y, -rho * th.cos())));
-                        }
-                    }
+        // the axle segment.
+        let a = self.arc_box(-self.half_width, rho, z_top)?;
+        let b = self.arc_box(self.half_width, rho, z_top)?;
+        Some([
+            a[0].min(b[0]) - PAD,
+            a[1].max(b[1]) + PAD,
+            a[2].min(b[2]) - PAD,
+            a[3].max(b[3]) + PAD,
+        ])
+    }
+
+    /// Box (rock frame, `[x_lo, x_hi, y_lo, y_hi]`) of the radius-`rho` disc
+    /// segment at axle coordinate `y` that lies below `z_top`: the segment is
+    /// bounded by its arc, whose box is set by the arc's end points and the
+    /// x/y extremes inside it.
+    fn arc_box(&self, y: f64, rho: f64, z_top: f64) -> Option<[f64; 4]> {
+        let (t0, dt) = self.arc_below(y, rho, z_top)?;
+        let mut bb = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let mut add = |th: f64| {
+            let p = self.to_world(&Vector3::new(rho * th.sin(), y, -rho * th.cos()));
+            bb[0] = bb[0].min(p.x);
+            bb[1] = bb[1].max(p.x);
+            bb[2] = bb[2].min(p.y);
+            bb[3] = bb[3].max(p.y);
+        };
+        add(t0 - dt);
+        add(t0 + dt);
+        for axis in 0..2 {
+            let tm = self.rot[(axis, 0)].atan2(-self.rot[(axis, 2)]);
+            for th in [tm, tm + std::f64::consts::PI] {
+                if wrap(th - t0).abs() <= dt {
+                    add(th);
                 }
             }
         }
-        if any {
-            bb[0] -= pad_x;
-            bb[1] += pad_x;
-            bb[2] -= pad_y;
-            bb[3] += pad_y;
-        }
-        any.then_some(bb)
+        Some(bb)
     }
 
     /// The arc of the rim circle at axle coordinate `y` (radius `rho`) lying

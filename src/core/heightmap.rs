@@ -96,6 +96,22 @@ impl Grid {
         Some((i0 as usize, i1 as usize, j0 as usize, j1 as usize))
     }
 
+    /// The cell holding `(x, y)`: its lower-left node `(i, j)` and the
+    /// position inside it in cell units `(fu, fv)` in [0, 1]; `None` outside
+    /// the map. Every query of [`HeightMap`] goes through here, so all agree
+    /// on which cell (and triangle) a point lies in.
+    #[inline]
+    pub fn cell(&self, x: f64, y: f64) -> Option<(usize, usize, f64, f64)> {
+        let u = (x - self.x_min) * self.inv_dx;
+        let v = (y - self.y_min) * self.inv_dy;
+        if !(u >= 0.0 && v >= 0.0 && u <= self.u_max && v <= self.v_max) {
+            return None;
+        }
+        let i = (u as usize).min(self.nx - 2);
+        let j = (v as usize).min(self.ny - 2);
+        Some((i, j, u - i as f64, v - j as f64))
+    }
+
     /// Area a node stands for (one cell).
     pub fn cell_area(&self) -> f64 {
         self.dx * self.dy
@@ -207,15 +223,7 @@ impl HeightMap {
     #[inline]
     pub fn point(&self, x: f64, y: f64) -> Option<SurfacePoint> {
         let g = &self.grid;
-        let u = (x - g.x_min) / g.dx;
-        let v = (y - g.y_min) / g.dy;
-        let (nxm, nym) = ((g.nx - 1) as f64, (g.ny - 1) as f64);
-        if !(u >= 0.0 && v >= 0.0 && u <= nxm && v <= nym) {
-            return None;
-        }
-        let i = (u.floor() as usize).min(g.nx - 2);
-        let j = (v.floor() as usize).min(g.ny - 2);
-        let (fu, fv) = (u - i as f64, v - j as f64);
+        let (i, j, fu, fv) = g.cell(x, y)?;
         let z00 = self.node(i, j);
         let z11 = self.node(i + 1, j + 1);
         let (dzdx, dzdy) = if fu >= fv {
@@ -237,11 +245,8 @@ impl HeightMap {
     pub fn triangle(&self, x: f64, y: f64) -> Option<(u64, [f64; 3])> {
         let g = &self.grid;
         let p = self.point(x, y)?;
-        let u = (x - g.x_min) / g.dx;
-        let v = (y - g.y_min) / g.dy;
-        let i = (u.floor() as usize).min(g.nx - 2);
-        let j = (v.floor() as usize).min(g.ny - 2);
-        let lower = (u - i as f64) >= (v - j as f64);
+        let (i, j, fu, fv) = g.cell(x, y)?;
+        let lower = fu >= fv;
         let id = ((j * g.nx + i) as u64) * 2 + lower as u64;
         let n = (p.dzdx * p.dzdx + p.dzdy * p.dzdy + 1.0).sqrt();
         Some((id, [-p.dzdx / n, -p.dzdy / n, 1.0 / n]))
@@ -252,15 +257,9 @@ impl HeightMap {
     /// +y and -y alike; the contact walk uses it to look ahead.
     #[inline]
     pub fn bilinear(&self, x: f64, y: f64) -> f64 {
-        let g = &self.grid;
-        let u = (x - g.x_min) * g.inv_dx;
-        let v = (y - g.y_min) * g.inv_dy;
-        if !(u >= 0.0 && v >= 0.0 && u <= g.u_max && v <= g.v_max) {
+        let Some((i, j, fu, fv)) = self.grid.cell(x, y) else {
             return NO_ROCK;
-        }
-        let i = (u as usize).min(g.nx - 2);
-        let j = (v as usize).min(g.ny - 2);
-        let (fu, fv) = (u - i as f64, v - j as f64);
+        };
         let a = self.node(i, j) + (self.node(i + 1, j) - self.node(i, j)) * fu;
         let b = self.node(i, j + 1) + (self.node(i + 1, j + 1) - self.node(i, j + 1)) * fu;
         a + (b - a) * fv
@@ -270,15 +269,9 @@ impl HeightMap {
     /// triangles as [`HeightMap::point`], without the slopes).
     #[inline]
     pub fn height(&self, x: f64, y: f64) -> f64 {
-        let g = &self.grid;
-        let u = (x - g.x_min) * g.inv_dx;
-        let v = (y - g.y_min) * g.inv_dy;
-        if !(u >= 0.0 && v >= 0.0 && u <= g.u_max && v <= g.v_max) {
+        let Some((i, j, fu, fv)) = self.grid.cell(x, y) else {
             return NO_ROCK;
-        }
-        let i = (u as usize).min(g.nx - 2);
-        let j = (v as usize).min(g.ny - 2);
-        let (fu, fv) = (u - i as f64, v - j as f64);
+        };
         let z00 = self.node(i, j);
         let z11 = self.node(i + 1, j + 1);
         if fu >= fv {

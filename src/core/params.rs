@@ -207,7 +207,6 @@ impl Default for Numerics {
     }
 }
 
-
 fn finite_positive(name: &'static str, v: f64) -> Result<()> {
     if v.is_finite() && v > 0.0 {
         Ok(())

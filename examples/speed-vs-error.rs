@@ -16,7 +16,8 @@
 //! tilt and groove against a converged run (0.25 mm cells, 17 slices, arc
 //! step 1 cell, sweep step 0.5 mm). Times are wall-clock microseconds of one
 //! `advance` plus one `evaluate`, per millimetre of travel, over the window
-//! of the flat scene, for `reps` repeated runs: median and quartiles.
+//! of the flat scene, for `reps` rounds that run every row once (so load
+//! from other processes falls on all rows alike): median and quartiles.
 
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -347,7 +348,7 @@ fn main() {
             .and_then(|i| args.get(i + 1).cloned())
     };
     let out = get("--out").unwrap_or_else(|| "target/speed-vs-error/rows.json".into());
-    let reps: usize = get("--reps").map_or(3, |s| s.parse().unwrap());
+    let reps: usize = get("--reps").map_or(5, |s| s.parse().unwrap());
     let quick = args.iter().any(|a| a == "--quick");
     if args.iter().any(|a| a == "--core-scene") {
         // one line of JSON, for scripts/speed-vs-error to interleave with the C host
@@ -471,20 +472,39 @@ fn main() {
     let v_area = groove_area();
     let mut rows = String::from("[\n");
     let all: Vec<Setting> = std::iter::once(reference.clone()).chain(settings).collect();
+    // timing rounds: every row once per round, so that load from other
+    // processes falls on all rows alike
+    let mut us_all: Vec<Vec<f64>> = vec![Vec::new(); all.len()];
+    let mut calls_all: Vec<Vec<f64>> = vec![Vec::new(); all.len()];
+    let mut flat_res: Vec<Option<(Pass, usize)>> = (0..all.len()).map(|_| None).collect();
+    // warm-up (not recorded): page in the allocator and the code
+    flat(&all[1]);
+    let n_rows = all.len();
+    for round in 0..reps.max(1) {
+        let t = Instant::now();
+        // each round starts elsewhere in the list, so that a slow stretch of
+        // a round does not always fall on the same rows
+        let shift = round * n_rows / reps.max(1);
+        for k in 0..n_rows {
+            let idx = (k + shift) % n_rows;
+            let s = &all[idx];
+            let (p, m) = flat(s);
+            us_all[idx].extend_from_slice(&p.us_per_mm);
+            calls_all[idx].extend_from_slice(&p.us_per_call);
+            flat_res[idx] = Some((p, m));
+        }
+        eprintln!(
+            "timing round {}/{} ({:.1} s)",
+            round + 1,
+            reps.max(1),
+            t.elapsed().as_secs_f64()
+        );
+    }
     for (idx, s) in all.iter().enumerate() {
         let t = Instant::now();
-        let mut us = Vec::new();
-        let mut calls = Vec::new();
-        let mut fl = None;
-        let mut memory = 0;
-        for _ in 0..reps.max(1) {
-            let (p, m) = flat(s);
-            us.extend_from_slice(&p.us_per_mm);
-            calls.extend_from_slice(&p.us_per_call);
-            memory = m;
-            fl = Some(p);
-        }
-        let fl = fl.unwrap();
+        let mut us = std::mem::take(&mut us_all[idx]);
+        let mut calls = std::mem::take(&mut calls_all[idx]);
+        let (fl, memory) = flat_res[idx].take().unwrap();
         let (et, eg, us_tilt) = if s.group == "reference" {
             (0.0, 0.0, f64::NAN)
         } else {

@@ -105,7 +105,8 @@ def plot_forces(path, theory, results, n_steps, h):
     spec = [("normalForce", "Normal force $F_N$ (along cutter +z)", theory["FN"], 0),
             ("rollingForce", "Rolling force $F_R$ (along cutter -x)", theory["FR"], 1),
             ("sideForce", "Side force $F_S$ (along cutter +y)", 0.0, 2)]
-    styles = {1: dict(color="C0", lw=1.6), 2: dict(color="C1", lw=1.2)}
+    # kerf default under the dashed CSM line, wide enough to show between the dashes
+    styles = {1: dict(color="C0", lw=3.0, zorder=3), 2: dict(color="C1", lw=1.2, zorder=3)}
     handles = {}
     for row, (name, title, th, col) in enumerate(spec):
         full, zoom = axes[row]
@@ -116,7 +117,8 @@ def plot_forces(path, theory, results, n_steps, h):
                 sel = slice(None) if ax is full else (res["x"] >= LO) & (res["x"] <= HI)
                 handles[label] = ax.plot(res["x"][sel], res[name][sel] / 1e3, **styles[rule])[0]
         for ax in (full, zoom):
-            handles["CSM theory, eqs 13-17 (side: 0)"] = ax.axhline(th / 1e3, color="k", ls="--", lw=1.3)
+            handles["CSM theory, eqs 13-17 (side: 0)"] = ax.axhline(th / 1e3, color="k", ls="--", lw=1.2,
+                                                                   zorder=4)
         for (tname, vals), c in zip(list(kh.TABLE3.items())[1:], ("C2", "C3")):
             if vals[col] is not None:
                 handles[tname] = full.axhline(vals[col], color=c, ls=":", lw=1.5)
@@ -126,7 +128,16 @@ def plot_forces(path, theory, results, n_steps, h):
                       xytext=(-3, 4), textcoords="offset points", ha="right", va="bottom", fontsize=8)
         full.set_ylabel(f"{title.split(' (')[0].split(' $')[0]} [kN]")
         full.set_title(title + ": whole cut, with thesis Table 3", fontsize=10, loc="left")
-        zoom.set_title(f"zoom: steady window {LO}-{HI} m", fontsize=10, loc="left")
+        devs = []
+        for rule, (label, res) in sorted(results.items()):
+            m = kh.steady_mean(res, name, LO, HI)
+            if name == "sideForce":
+                nm = kh.steady_mean(res, "normalForce", LO, HI)
+                devs.append(f"rule {rule} {m / 1e3:.3f} kN ({m / nm:.0e} F_N)")
+            else:
+                devs.append(f"rule {rule} {m / th - 1:+.3%}")
+        what = "means" if name == "sideForce" else "means vs CSM"
+        zoom.set_title(f"zoom on {LO}-{HI} m\n{what}: " + ", ".join(devs), fontsize=9, loc="left")
         for ax in (full, zoom):
             ax.grid(True, alpha=0.3)
         zoom.ticklabel_format(axis="y", useOffset=False)

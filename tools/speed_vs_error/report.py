@@ -323,10 +323,13 @@ def main():
     same = [r for r in rows if is_default(r) or r["group"] == "p_reg"]
     if len(same) > 1:
         lo_, hi_ = min(r["us_median"] for r in same), max(r["us_median"] for r in same)
+        iqr = max((r["us_p75"] - r["us_p25"]) / r["us_median"] for r in same)
+        band = max(hi_ / lo_ - 1, iqr)
         L.append(
             "*Noise:* rows whose flat cut runs the very same numerics (the defaults and the two "
-            f"p_reg rows) give medians from {us(lo_)} to {us(hi_)} µs/mm; cost differences "
-            f"smaller than about {100 * (hi_ / lo_ - 1):.0f} % are not significant on this machine.\n"
+            f"p_reg rows) give medians from {us(lo_)} to {us(hi_)} µs/mm with interquartile "
+            f"ranges up to {100 * iqr:.0f} % of the median; cost differences smaller than about "
+            f"{100 * band:.0f} % are not significant on this machine.\n"
         )
     L.append(
         "**Chosen defaults: 1 mm cells, 9 tip slices, arc step 4 cells, sweep step 1 mm, "

@@ -41,7 +41,7 @@ use super::error::{KerfError, Result};
 use super::heightmap::{Grid, HeightMap};
 use super::params::Params;
 use super::pose::{advance_pose, Pose, Twist};
-use super::Outputs;
+use super::{friction_force, Outputs};
 
 /// Resolution of the rim-point grid of the thesis's contact loop.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,12 +90,6 @@ pub struct BaselineModel {
     map: HeightMap,
     excavated_volume: f64,
     cutting_energy: f64,
-}
-
-/// Adams' cubic STEP friction (thesis App. A), as the model uses it.
-fn friction_coefficient(mu: f64, vs: f64, v: f64) -> f64 {
-    let s = ((v + vs) / (2.0 * vs)).clamp(0.0, 1.0);
-    -mu + 2.0 * mu * s * s * (3.0 - 2.0 * s)
 }
 
 impl BaselineModel {
@@ -210,37 +204,24 @@ impl BaselineModel {
         twist.validate()?;
         let c = self.contact(pose);
         let rot = pose.rotation();
-        let mut friction = Vector3::zeros();
-        if c.in_contact {
+        let f = &self.params.friction;
+        let friction = if c.in_contact {
             let slip_v = twist.velocity + twist.omega.cross(&c.application);
-            let v_t = slip_v - c.normal * c.normal.dot(&slip_v);
-            let speed = v_t.norm();
-            if speed > 0.0 {
-                let f = &self.params.friction;
-                friction =
-                    -v_t * (c.rim_force.norm() * friction_coefficient(f.mu, f.vs, speed) / speed);
-            }
-        }
+            friction_force(c.rim_force.norm(), slip_v, c.normal, f.mu, f.vs)
+        } else {
+            Vector3::zeros()
+        };
         let force = c.rim_force + friction;
         let moment = c.application.cross(&force);
-        let (ex, ey, ez) = (rot * Vector3::x(), rot * Vector3::y(), rot * Vector3::z());
-        Ok(Outputs {
-            force: force.into(),
-            moment: moment.into(),
-            normal_force: force.dot(&ez),
-            rolling_force: -force.dot(&ex),
-            side_force: force.dot(&ey),
-            penetration: c.penetration,
-            contact_angle: c.phi,
-            in_contact: c.in_contact,
-            excavated_volume: self.excavated_volume,
-            cutting_energy: self.cutting_energy,
-            specific_energy: if self.excavated_volume > 0.0 {
-                self.cutting_energy / self.excavated_volume
-            } else {
-                0.0
-            },
-        })
+        let mut o = Outputs::from_force(force, moment, &rot, c.penetration, c.phi, c.in_contact);
+        o.excavated_volume = self.excavated_volume;
+        o.cutting_energy = self.cutting_energy;
+        o.specific_energy = if self.excavated_volume > 0.0 {
+            self.cutting_energy / self.excavated_volume
+        } else {
+            0.0
+        };
+        Ok(o)
     }
 
     /// Subroutine DEFORM (ch. 8): visits every node of the face, cuts those

@@ -208,6 +208,51 @@ pub fn friction_coefficient(mu: f64, vs: f64, v: f64) -> f64 {
     -mu + 2.0 * mu * s * s * (3.0 - 2.0 * s)
 }
 
+/// Friction on the cutter for a slip velocity `slip` of the rim over the
+/// rock at a contact whose unit normal is `normal`, under a normal `load`:
+/// along the slip's tangential part, against it, `mu(|v_t|)` times the load.
+pub fn friction_force(
+    load: f64,
+    slip: Vector3<f64>,
+    normal: Vector3<f64>,
+    mu: f64,
+    vs: f64,
+) -> Vector3<f64> {
+    let v_t = slip - normal * normal.dot(&slip);
+    let speed = v_t.norm();
+    if speed > 0.0 {
+        -v_t * (load * friction_coefficient(mu, vs, speed) / speed)
+    } else {
+        Vector3::zeros()
+    }
+}
+
+impl Outputs {
+    /// The outputs of a force and moment (rock frame) on a cutter whose
+    /// frame is `rot`, with the contact's penetration and angle; the
+    /// bookkeeping fields are left at zero.
+    pub fn from_force(
+        force: Vector3<f64>,
+        moment: Vector3<f64>,
+        rot: &nalgebra::Rotation3<f64>,
+        penetration: f64,
+        contact_angle: f64,
+        in_contact: bool,
+    ) -> Self {
+        Outputs {
+            force: force.into(),
+            moment: moment.into(),
+            normal_force: force.dot(&(rot * Vector3::z())),
+            rolling_force: -force.dot(&(rot * Vector3::x())),
+            side_force: force.dot(&(rot * Vector3::y())),
+            penetration,
+            contact_angle,
+            in_contact,
+            ..Outputs::default()
+        }
+    }
+}
+
 pub struct Model {
     params: Params,
     law: CsmLaw,
@@ -315,32 +360,16 @@ impl Model {
         // friction on the slip of the rim over the rock where the contact is
         // lowest (kerf) or at the point of force application (thesis eq. 56)
         let slip_v = twist.velocity + twist.omega.cross(&c.slip_point);
-        let n = c.slip_normal;
-        let v_t = slip_v - n * n.dot(&slip_v);
-        let speed = v_t.norm();
         let f = &self.params.friction;
-        let friction = if c.in_contact && speed > 0.0 {
-            -v_t * (c.rim_force.norm() * friction_coefficient(f.mu, f.vs, speed) / speed)
+        let friction = if c.in_contact {
+            friction_force(c.rim_force.norm(), slip_v, c.slip_normal, f.mu, f.vs)
         } else {
             Vector3::zeros()
         };
         let force = c.rim_force + c.side_force + friction;
         let moment =
             c.application.cross(&c.rim_force) + c.slip_point.cross(&friction) + c.side_moment;
-        let ex = rot * Vector3::x();
-        let ey = rot * Vector3::y();
-        let ez = rot * Vector3::z();
-        Outputs {
-            force: force.into(),
-            moment: moment.into(),
-            normal_force: force.dot(&ez),
-            rolling_force: -force.dot(&ex),
-            side_force: force.dot(&ey),
-            penetration: c.penetration,
-            contact_angle: c.phi,
-            in_contact: c.in_contact,
-            ..Outputs::default()
-        }
+        Outputs::from_force(force, moment, &rot, c.penetration, c.phi, c.in_contact)
     }
 
     /// Would [`Model::commit`] at `pose` change the rock?

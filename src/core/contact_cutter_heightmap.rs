@@ -538,36 +538,67 @@ pub fn contact(
     // side faces: only a disc whose axle is not horizontal can put a side
     // face under the rock along a vertical
     if disc.rot[(2, 1)].abs() > 1e-12 {
-        if let Some(bb) = disc.footprint_below(z_top) {
-            if let Some((i0, i1, j0, j1)) = g.node_range(bb[0], bb[1], bb[2], bb[3]) {
-                let p_ref = c.penetration.max(num.p_reg);
-                let pressure = law.base_pressure(p_ref, contact_angle(disc.radius, p_ref));
-                // the same leading-arc rule as the rim: a face sliding in its
-                // own plane stays in elastic touch with the rock it cut behind
-                // the lowest point, which carries the trailing weight only
-                let x_split = (disc.rot.transpose() * c.slip_point).x;
-                for j in j0..=j1 {
-                    for i in i0..=i1 {
-                        let (x, y) = g.node_xy(i, j);
-                        if let Some((zl, Face::Side(s))) = disc.lower_boundary(x, y) {
-                            let u = map.node(i, j) - zl;
-                            if u > 0.0 {
-                                let q = Vector3::new(x, y, zl) - disc.centre;
-                                let lead = (disc.rot.transpose() * q).x >= x_split;
-                                let w = if lead { wp } else { wm };
-                                let n_out = disc.rot * Vector3::new(0.0, s as f64, 0.0);
-                                let area = g.cell_area() / n_out.z.abs().max(0.1);
-                                let f =
-                                    -n_out * (pressure * area * w * smoothstep(u / elastic_depth));
-                                c.side_force += f;
-                                c.side_moment += (Vector3::new(x, y, zl) - disc.centre).cross(&f);
-                                c.in_contact = true;
-                            }
-                        }
-                    }
-                }
-            }
-        }
+        let (f, m, touched) = side_faces(map, disc, law, num, elastic_depth, z_top, &c, (wp, wm));
+        c.side_force = f;
+        c.side_moment = m;
+        c.in_contact |= touched;
     }
     c
+}
+
+/// Load of a tilted disc's flat side faces: every node under a face whose
+/// vertical meets the face below the rock pushes with the CSM base pressure
+/// over its cell along the face normal, with the rim's leading/trailing
+/// weights `w` on either side of the contact's lowest point. Returns the
+/// force and moment (about the centre, rock frame) and whether any node
+/// touched.
+#[allow(clippy::too_many_arguments)]
+fn side_faces(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    law: &CsmLaw,
+    num: &Numerics,
+    elastic_depth: f64,
+    z_top: f64,
+    rim: &Contact,
+    (wp, wm): (f64, f64),
+) -> (Vector3<f64>, Vector3<f64>, bool) {
+    let g = map.grid();
+    let (mut force, mut moment, mut touched) = (Vector3::zeros(), Vector3::zeros(), false);
+    let Some(bb) = disc.footprint_below(z_top) else {
+        return (force, moment, touched);
+    };
+    let Some((i0, i1, j0, j1)) = g.node_range(bb[0], bb[1], bb[2], bb[3]) else {
+        return (force, moment, touched);
+    };
+    let p_ref = rim.penetration.max(num.p_reg);
+    let pressure = law.base_pressure(p_ref, contact_angle(disc.radius, p_ref));
+    // a face sliding in its own plane stays in elastic touch with the rock it
+    // cut behind the lowest point, which carries the trailing weight only
+    let x_split = (disc.rot.transpose() * rim.slip_point).x;
+    for j in j0..=j1 {
+        for i in i0..=i1 {
+            let (x, y) = g.node_xy(i, j);
+            let Some((zl, Face::Side(s))) = disc.lower_boundary(x, y) else {
+                continue;
+            };
+            let u = map.node(i, j) - zl;
+            if u <= 0.0 {
+                continue;
+            }
+            let q = Vector3::new(x, y, zl) - disc.centre;
+            let w = if (disc.rot.transpose() * q).x >= x_split {
+                wp
+            } else {
+                wm
+            };
+            let n_out = disc.rot * Vector3::new(0.0, s as f64, 0.0);
+            let area = g.cell_area() / n_out.z.abs().max(0.1);
+            let f = -n_out * (pressure * area * w * smoothstep(u / elastic_depth));
+            force += f;
+            moment += q.cross(&f);
+            touched = true;
+        }
+    }
+    (force, moment, touched)
 }

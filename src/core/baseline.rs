@@ -39,6 +39,7 @@ use super::csm::{contact_angle, CsmLaw};
 use super::cutter::PosedDisc;
 use super::error::{KerfError, Result};
 use super::heightmap::{Grid, HeightMap};
+use super::model::check_interval;
 use super::params::Params;
 use super::pose::{advance_pose, Pose, Twist};
 use super::{friction_force, Outputs};
@@ -275,21 +276,10 @@ impl BaselineModel {
     /// Cuts the rock at `pose` (a Model Exchange event); `dt` is the time
     /// since the previous commit, for the energy bookkeeping.
     pub fn commit(&mut self, pose: &Pose, twist: &Twist, dt: f64) -> Result<bool> {
-        if !(dt.is_finite() && dt >= 0.0) {
-            return Err(KerfError::BadInput {
-                name: "time since last event",
-                value: dt,
-            });
-        }
+        check_interval(dt)?;
         let o = self.evaluate(pose, twist)?;
-        self.cutting_energy += Self::work(&o, twist, dt);
+        self.cutting_energy += o.work_on_rock(twist, dt);
         Ok(self.deform(pose) > 0)
-    }
-
-    fn work(o: &Outputs, twist: &Twist, dt: f64) -> f64 {
-        let f = Vector3::from(o.force);
-        let m = Vector3::from(o.moment);
-        -(f.dot(&twist.velocity) + m.dot(&twist.omega)) * dt
     }
 
     /// A Co-Simulation step as the thesis's solver made it: the cutter moves
@@ -306,7 +296,7 @@ impl BaselineModel {
         end.validate()?;
         self.deform(&end);
         let o1 = self.evaluate(&end, twist)?;
-        self.cutting_energy += 0.5 * (Self::work(&o0, twist, h) + Self::work(&o1, twist, h));
+        self.cutting_energy += 0.5 * (o0.work_on_rock(twist, h) + o1.work_on_rock(twist, h));
         Ok(end)
     }
 }

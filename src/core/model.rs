@@ -253,6 +253,28 @@ impl Outputs {
     }
 }
 
+impl Outputs {
+    /// Work of the cutter on the rock over `dt` at these outputs: the rock's
+    /// force and moment on the cutter, negated, times the cutter's velocities.
+    pub fn work_on_rock(&self, twist: &Twist, dt: f64) -> f64 {
+        let f = Vector3::from(self.force);
+        let m = Vector3::from(self.moment);
+        -(f.dot(&twist.velocity) + m.dot(&twist.omega)) * dt
+    }
+}
+
+/// Checks the time since the previous commit.
+pub(crate) fn check_interval(dt: f64) -> Result<()> {
+    if dt.is_finite() && dt >= 0.0 {
+        Ok(())
+    } else {
+        Err(KerfError::BadInput {
+            name: "time since last event",
+            value: dt,
+        })
+    }
+}
+
 pub struct Model {
     params: Params,
     law: CsmLaw,
@@ -387,15 +409,7 @@ impl Model {
     /// skid), which is when the energy bookkeeping has something to add.
     pub fn power(&self, pose: &Pose, twist: &Twist) -> Result<f64> {
         let o = self.evaluate(pose, twist)?;
-        Ok(Self::work(&o, twist, 1.0))
-    }
-
-    /// Work of the rock force on the cutter over `dt` at `o` (negated: the
-    /// work of the cutter on the rock).
-    fn work(o: &Outputs, twist: &Twist, dt: f64) -> f64 {
-        let f = Vector3::from(o.force);
-        let m = Vector3::from(o.moment);
-        -(f.dot(&twist.velocity) + m.dot(&twist.omega)) * dt
+        Ok(o.work_on_rock(twist, 1.0))
     }
 
     fn cut_at(&mut self, pose: &Pose) -> bool {
@@ -426,14 +440,9 @@ impl Model {
     /// inputs. A longer jump (a host that moves the cutter to start a new
     /// pass) is not a path: only the new pose is cut.
     pub fn commit(&mut self, pose: &Pose, twist: &Twist, dt: f64) -> Result<bool> {
-        if !(dt.is_finite() && dt >= 0.0) {
-            return Err(KerfError::BadInput {
-                name: "time since last event",
-                value: dt,
-            });
-        }
+        check_interval(dt)?;
         let o = self.evaluate(pose, twist)?;
-        self.state.cutting_energy += Self::work(&o, twist, dt);
+        self.state.cutting_energy += o.work_on_rock(twist, dt);
         let mut changed = false;
         if let Some(prev) = self.state.last_cut {
             let jump = (pose.position - prev.position).norm();
@@ -488,7 +497,7 @@ impl Model {
         }
         self.cache.set(None);
         let o1 = self.evaluate(&end, twist)?;
-        self.state.cutting_energy += 0.5 * (Self::work(&o0, twist, h) + Self::work(&o1, twist, h));
+        self.state.cutting_energy += 0.5 * (o0.work_on_rock(twist, h) + o1.work_on_rock(twist, h));
         self.state.last_cut = Some(end);
         Ok(end)
     }

@@ -39,7 +39,7 @@ use super::csm::{contact_angle, CsmLaw};
 use super::cutter::PosedDisc;
 use super::error::{KerfError, Result};
 use super::heightmap::{Grid, HeightMap};
-use super::model::check_interval;
+use super::model::{check_interval, check_step};
 use super::params::Params;
 use super::pose::{advance_pose, Pose, Twist};
 use super::{friction_force, Outputs};
@@ -285,12 +285,7 @@ impl BaselineModel {
     /// A Co-Simulation step as the thesis's solver made it: the cutter moves
     /// to the end of the step and the rock is cut there only.
     pub fn advance(&mut self, start: &Pose, twist: &Twist, h: f64) -> Result<Pose> {
-        if !(h.is_finite() && h >= 0.0) {
-            return Err(KerfError::BadInput {
-                name: "communicationStepSize",
-                value: h,
-            });
-        }
+        check_step(h)?;
         let o0 = self.evaluate(start, twist)?;
         let end = advance_pose(start, twist, h);
         end.validate()?;

@@ -263,6 +263,18 @@ impl Outputs {
     }
 }
 
+/// Checks a Co-Simulation step length.
+pub(crate) fn check_step(h: f64) -> Result<()> {
+    if h.is_finite() && h >= 0.0 {
+        Ok(())
+    } else {
+        Err(KerfError::BadInput {
+            name: "communicationStepSize",
+            value: h,
+        })
+    }
+}
+
 /// Checks the time since the previous commit.
 pub(crate) fn check_interval(dt: f64) -> Result<()> {
     if dt.is_finite() && dt >= 0.0 {
@@ -475,12 +487,7 @@ impl Model {
     /// point, so no uncut rock is left however long `h`. The cutting energy
     /// takes the trapezoidal rule over the step. Returns the end pose.
     pub fn advance(&mut self, start: &Pose, twist: &Twist, h: f64) -> Result<Pose> {
-        if !(h.is_finite() && h >= 0.0) {
-            return Err(KerfError::BadInput {
-                name: "communicationStepSize",
-                value: h,
-            });
-        }
+        check_step(h)?;
         let o0 = self.evaluate(start, twist)?;
         let rot = start.rotation();
         let axle = rot * Vector3::y();

@@ -1,6 +1,7 @@
 # Shared setup for scripts/reference and scripts/test (sourced, not run).
 # Installs only what is missing:
-#   * libclang (+ clang) for bindgen, via apt-get, only if no libclang is found;
+#   * libclang for bindgen (fmi-sys generates the FMI C bindings), via
+#     apt-get install libclang-dev, only if no loadable libclang is found;
 #   * .venv from the pinned requirements.txt, reinstalled only when that file
 #     (or the Python version) changes - a hash stamp lives in .venv.
 # Works as root without a tty (CI=true); as non-root it uses sudo for apt-get
@@ -28,22 +29,59 @@ apt_install() {
     "${sudo[@]}" apt-get install -y -q --no-install-recommends "$@"
 }
 
-have_libclang() {
-    compgen -G '/usr/lib/llvm-*/lib/libclang*.so*' >/dev/null && return 0
-    [ -n "${LIBCLANG_PATH:-}" ] && compgen -G "$LIBCLANG_PATH/libclang*.so*" >/dev/null && return 0
-    ldconfig -p 2>/dev/null | grep -q 'libclang[-.0-9]*\.so' && return 0
+# The libclang that bindgen (through clang-sys, loading at run time) accepts:
+# a file named libclang.so, libclang-*.so, libclang.so.* or libclang-*.so.*,
+# but not libclang-cpp* (the C++ library Debian's image ships without libclang),
+# that is an ELF shared object, in $LIBCLANG_PATH, `llvm-config --libdir`, or the
+# directories clang-sys searches on Linux. KERF_SYSROOT prefixes every system
+# directory, so tests can run this against a fake file tree.
+libclang_dirs() {
+    local root="${KERF_SYSROOT:-}"
+    [ -n "${LIBCLANG_PATH:-}" ] && printf '%s\n' "$LIBCLANG_PATH"
+    if [ -z "$root" ] && command -v llvm-config >/dev/null 2>&1; then
+        llvm-config --libdir 2>/dev/null
+    fi
+    local pat d
+    for pat in '/usr/local/llvm*/lib*' '/usr/local/lib*/*/*' '/usr/local/lib*/*' '/usr/local/lib*' \
+               '/usr/lib*/*/*' '/usr/lib*/*' '/usr/lib*'; do
+        for d in $root$pat; do
+            [ -d "$d" ] && printf '%s\n' "$d"
+        done
+    done
+}
+
+is_elf() { [ -f "$1" ] && [ "$(head -c 4 "$1" 2>/dev/null | od -An -c | tr -d ' ')" = '177ELF' ]; }
+
+find_libclang() {
+    local d f name
+    local saved; saved="$(shopt -p nullglob)"
+    shopt -s nullglob
+    while IFS= read -r d; do
+        for f in "$d"/libclang.so "$d"/libclang-*.so "$d"/libclang.so.* "$d"/libclang-*.so.*; do
+            name="${f##*/}"
+            case "$name" in *-cpp.*) continue ;; esac
+            if is_elf "$f"; then
+                eval "$saved"
+                printf '%s\n' "$f"
+                return 0
+            fi
+        done
+    done < <(libclang_dirs)
+    eval "$saved"
     return 1
 }
+
+have_libclang() { find_libclang >/dev/null; }
 
 ensure_system_deps() {
     command -v cargo >/dev/null || die "cargo not found (install Rust: https://rustup.rs)"
     local pkgs=()
-    have_libclang || pkgs+=(libclang-dev clang)
+    have_libclang || pkgs+=(libclang-dev)
     command -v cc >/dev/null || pkgs+=(gcc libc6-dev)
     if [ ${#pkgs[@]} -gt 0 ]; then
         apt_install "${pkgs[@]}"
     fi
-    have_libclang || die "libclang still not found after installing libclang-dev"
+    have_libclang || die "no libclang that bindgen can load (libclang.so*, not libclang-cpp) after installing libclang-dev; set LIBCLANG_PATH"
 }
 
 find_python() {

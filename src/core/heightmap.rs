@@ -5,8 +5,16 @@
 //! Storage follows what a scene touches, not the extent of the face: nodes
 //! live in square tiles of [`TILE`] x [`TILE`] that are allocated on the first
 //! write; an untouched tile reads as the flat initial face `z0`. The tile
-//! directory is a dense vector of `Option<Box<Tile>>` (8 bytes a tile), so a
-//! 10 m x 10 m face at 1 mm cells costs 0.8 MB before anything is cut.
+//! directory is a dense vector of `Option<Tile>` (16 bytes a tile), so a
+//! 10 m x 10 m face at 1 mm cells costs 1.6 MB before anything is cut.
+//!
+//! Tiles are shared copy-on-write (`Arc`): cloning a map (an FMU-state
+//! snapshot, a step's undo copy) copies the directory and shares every tile;
+//! the first write to a shared tile copies that tile only. A host that saves
+//! the state before every step therefore pays for the tiles the step cuts,
+//! not for the face.
+
+use std::sync::Arc;
 
 /// Nodes along each side of a tile.
 pub const TILE: usize = 32;
@@ -15,12 +23,18 @@ const TILE_NODES: usize = TILE * TILE;
 /// Height returned outside the map: there is no rock there.
 pub const NO_ROCK: f64 = f64::NEG_INFINITY;
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 struct Tile {
-    z: Box<[f64; TILE_NODES]>,
+    z: Arc<[f64; TILE_NODES]>,
     /// An upper bound of the heights in the tile (cuts only lower nodes, so
     /// it is kept exact on writes that raise and conservative on cuts).
     z_max: f64,
+}
+
+impl PartialEq for Tile {
+    fn eq(&self, other: &Self) -> bool {
+        self.z_max == other.z_max && (Arc::ptr_eq(&self.z, &other.z) || self.z == other.z)
+    }
 }
 
 /// Grid geometry of the height map.
@@ -163,7 +177,8 @@ impl HeightMap {
         self.tiles.iter().filter(|t| t.is_some()).count()
     }
 
-    /// Bytes held by the map (directory plus allocated tiles).
+    /// Bytes held by the map (directory plus allocated tiles; a tile shared
+    /// with a clone counts in each).
     pub fn memory_bytes(&self) -> usize {
         self.tiles.len() * std::mem::size_of::<Option<Tile>>()
             + self.allocated_tiles() * std::mem::size_of::<[f64; TILE_NODES]>()
@@ -192,10 +207,11 @@ impl HeightMap {
         let (t, k) = self.tile_index(i, j);
         let z0 = self.z0;
         let tile = self.tiles[t].get_or_insert_with(|| Tile {
-            z: Box::new([z0; TILE_NODES]),
+            z: Arc::new([z0; TILE_NODES]),
             z_max: z0,
         });
-        tile.z[k] = z;
+        // copy on write: a tile shared with a snapshot is copied here, once
+        Arc::make_mut(&mut tile.z)[k] = z;
         if z > tile.z_max {
             tile.z_max = z;
         }
@@ -301,8 +317,8 @@ impl HeightMap {
         if k >= self.tiles.len() || z.len() != TILE_NODES {
             return None;
         }
-        let mut zt = Box::new([0.0; TILE_NODES]);
-        zt.copy_from_slice(z);
+        let mut zt = Arc::new([0.0; TILE_NODES]);
+        Arc::make_mut(&mut zt).copy_from_slice(z);
         let z_max = zt.iter().copied().fold(NO_ROCK, f64::max);
         self.tiles[k] = Some(Tile { z: zt, z_max });
         Some(())
@@ -350,6 +366,33 @@ mod tests {
         let upper = m.height(0.02, 0.08); // fu = 0.2, fv = 0.8
         assert!((lower - (0.5 + 1.0 * (0.8 - 0.2))).abs() < 1e-12, "{lower}");
         assert_eq!(upper, 0.5);
+    }
+
+    #[test]
+    fn clones_share_tiles_until_written() {
+        let mut a = small();
+        a.set_node(1, 1, 0.25);
+        a.set_node(10, 20, 0.125); // same tile (the map is smaller than one tile)
+        let b = a.clone();
+        let shared = |m: &HeightMap, n: &HeightMap| {
+            m.tiles
+                .iter()
+                .zip(&n.tiles)
+                .filter(|(x, y)| matches!((x, y), (Some(x), Some(y)) if Arc::ptr_eq(&x.z, &y.z)))
+                .count()
+        };
+        assert_eq!(shared(&a, &b), a.allocated_tiles());
+        let mut c = b.clone();
+        c.set_node(1, 1, 0.0);
+        // the write copied the tile for c alone: a and b are unchanged and still share
+        assert_eq!(a.node(1, 1), 0.25);
+        assert_eq!(b.node(1, 1), 0.25);
+        assert_eq!(c.node(1, 1), 0.0);
+        assert_eq!(c.node(10, 20), 0.125);
+        assert_eq!(shared(&a, &b), 1);
+        assert_eq!(shared(&a, &c), 0);
+        assert_ne!(a, c);
+        assert_eq!(a, b);
     }
 
     #[test]

@@ -21,6 +21,7 @@ pub use model::{friction_coefficient, friction_force, Model, ModelState, Outputs
 pub use params::{CsmVariant, DirectionRule, Params};
 pub use pose::{Pose, Twist};
 pub mod baseline;
+pub mod chip_heightmap;
 pub mod contact_cutter_heightmap;
 pub mod contact_thesis;
 pub mod csm;

@@ -1,0 +1,487 @@
+//! Rock chips breaking out of the height map between grooves (thesis 2.3.4,
+//! 2.3.5, 2.4, 10.3 and 12, after Gertsch et al. 2002).
+//!
+//! A disc crushes the rock under its tip; lateral cracks run sideways from
+//! the crushed zone. Where a crack reaches a free surface (the wall of a
+//! neighbouring groove, or the edge of the rock) within its reach, the rock
+//! between breaks out as a chip. kerf models that as a change of the height
+//! map, like a cut, so the force follows from the contact law on the changed
+//! rock: after a chip there is less rock ahead of the disc; past the chip it
+//! meets intact rock again, and the force saw-tooths.
+//!
+//! **Criterion** (a stated model, not a measured law): a lateral crack reaches
+//! `kappa * p` sideways from the edge of the groove, `p` the depth of the
+//! groove below the ridge beside it. The ridge to a neighbouring groove breaks
+//! when its width at mid-depth is at most `kappa * p`; with spacing `S` and
+//! tip width `T` that is `S - T <~ kappa * p`, so `kappa` sets the critical
+//! `S / p`. `kappa` of 14-17 puts the specific-energy optimum of Colorado Red
+//! Granite at `S / p` of 17-20, where published LCM work puts it.
+//!
+//! **When.** Chips break out in front of the disc, one after another along
+//! its path, one chip length apart. The lengths are scattered about their mean
+//! by a counter-based generator keyed by the seed and the chip's index, so a
+//! run is bit-identical for a seed and the chips do not depend on how the host
+//! steps: a chip breaks out where the travel of the crushed zone crosses the
+//! next chip boundary, at the point on the path interpolated there, not at a
+//! sub-step's pose. The number of chips per metre does not depend on speed.
+//!
+//! **Shape.** Over the chip's length, from the crushed zone under the disc's
+//! lowest point, the chip surface runs straight across to the bottom of the
+//! neighbouring groove (or level to the free edge). Nodes above it drop to it;
+//! nodes below stay. Its plan is a rectangle `length` long, from the groove's
+//! centre line to the neighbouring groove's bottom.
+
+use nalgebra::Vector3;
+
+use super::cut_cutter_heightmap::CUT_TOLERANCE;
+use super::heightmap::{HeightMap, NO_ROCK};
+
+/// The chip model's parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChipParams {
+    /// Chips break out (`false`: exactly the rock model without chips).
+    pub enabled: bool,
+    /// Seed of the chip lengths' scatter.
+    pub seed: i32,
+    /// Lateral crack reach over groove depth \[1\].
+    pub kappa: f64,
+    /// Mean chip length along the cut \[m\].
+    pub length: f64,
+    /// Half-width of the uniform scatter of the chip length, as a share of
+    /// the mean \[1\], in `[0, 1)`.
+    pub length_spread: f64,
+}
+
+impl Default for ChipParams {
+    fn default() -> Self {
+        Self {
+            enabled: false,
+            seed: 1,
+            kappa: 15.0,
+            length: 0.05,
+            length_spread: 0.5,
+        }
+    }
+}
+
+impl ChipParams {
+    /// Length of chip `k` (0-based) of the seeded sequence \[m\].
+    pub fn chip_length(&self, k: u64) -> f64 {
+        let u = unit_hash(self.seed as u32 as u64, k);
+        self.length * (1.0 + self.length_spread * (2.0 * u - 1.0))
+    }
+}
+
+/// SplitMix64 of `(seed, k)` as a number in `[0, 1)`: counter-based, so
+/// chip `k`'s length needs no generator state.
+fn unit_hash(seed: u64, k: u64) -> f64 {
+    let mut z = seed
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(k.wrapping_add(1).wrapping_mul(0xBF58_476D_1CE4_E5B9));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// What the chip process carries from one cut to the next (part of the
+/// discrete state).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ChipState {
+    /// Travel of the crushed zone (the disc's lowest point, in plan) while
+    /// cutting \[m\].
+    pub travel: f64,
+    /// Index of the next chip in the seeded sequence.
+    pub index: u64,
+    /// Travel at which it breaks out \[m\].
+    pub next: f64,
+    /// The lowest point at the last cut, while the disc is cutting.
+    pub last_low: Option<[f64; 3]>,
+    /// Chips broken out so far (one per side of a groove).
+    pub count: u64,
+    /// Rock removed as chips \[m3\].
+    pub volume: f64,
+}
+
+impl ChipState {
+    pub fn new(p: &ChipParams) -> Self {
+        Self {
+            next: p.chip_length(0),
+            ..Self::default()
+        }
+    }
+
+    /// Records a pose on the disc's path whose lowest point is `low` (`cut`:
+    /// whether the disc removed rock there) and breaks out the chips whose
+    /// boundaries the travel since the last pose crossed, where the disc is
+    /// cutting. Chip boundaries are places on the path (travel counts in the
+    /// air too), so they do not depend on how the path was stepped. A move
+    /// longer than `max_step` in plan is a jump, not a path (a host starting
+    /// a new pass): it is not travel, and nothing breaks out across it.
+    pub fn after_cut(
+        &mut self,
+        map: &mut HeightMap,
+        p: &ChipParams,
+        low: Vector3<f64>,
+        cut: bool,
+        half_width: f64,
+        max_step: f64,
+    ) -> ChipStats {
+        let mut stats = ChipStats::default();
+        if let Some(prev) = self.last_low {
+            let prev = Vector3::from(prev);
+            let (dx, dy) = (low.x - prev.x, low.y - prev.y);
+            let ds = dx.hypot(dy);
+            if ds > 0.0 && ds <= max_step {
+                let heading = [dx / ds, dy / ds];
+                let end = self.travel + ds;
+                while self.next <= end {
+                    if cut {
+                        let f = (self.next - self.travel) / ds;
+                        let b = Breakout {
+                            origin: prev + (low - prev) * f,
+                            heading,
+                            half_width,
+                            length: p.chip_length(self.index),
+                            kappa: p.kappa,
+                        };
+                        let s = break_out(map, &b);
+                        stats.count += s.count;
+                        stats.volume += s.volume;
+                    }
+                    self.index += 1;
+                    self.next += p.chip_length(self.index);
+                }
+                self.travel = end;
+            }
+        }
+        self.last_low = Some(low.into());
+        self.count += stats.count;
+        self.volume += stats.volume;
+        stats
+    }
+}
+
+/// Chips broken out by one call.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ChipStats {
+    pub count: u64,
+    pub volume: f64,
+}
+
+/// One place where chips may break out: both sides of a groove, over a length
+/// ahead of the crushed zone.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Breakout {
+    /// The crushed zone: the disc's lowest point, rock frame.
+    pub origin: Vector3<f64>,
+    /// Direction of travel in plan (unit).
+    pub heading: [f64; 2],
+    /// Half the groove's width (the tip's) \[m\].
+    pub half_width: f64,
+    /// Length of the chip along the travel \[m\].
+    pub length: f64,
+    /// Crack reach over groove depth.
+    pub kappa: f64,
+}
+
+/// Where a lateral crack on one side of the groove meets a free surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Relief {
+    /// Lateral distance from the groove's centre line to the chip's far end \[m\].
+    pub reach: f64,
+    /// Height of the chip surface there.
+    pub z_far: f64,
+}
+
+/// Finds the free surface a crack from the groove at `b` reaches on side
+/// `side` (+1: left of the heading, -1: right), scanning the rock across the
+/// path at the middle of the chip's length. `None`: the ridge stands.
+pub fn relief(map: &HeightMap, b: &Breakout, side: f64) -> Option<Relief> {
+    let g = map.grid();
+    let step = 0.5 * g.dx.min(g.dy);
+    let [hx, hy] = b.heading;
+    let (lx, ly) = (-hy * side, hx * side);
+    let mx = b.origin.x + hx * 0.5 * b.length;
+    let my = b.origin.y + hy * 0.5 * b.length;
+    let at = |eta: f64| map.height(mx + lx * eta, my + ly * eta);
+    let zb = b.origin.z;
+    // the ridge's top, met first beside the groove
+    let mut z_top = f64::NEG_INFINITY;
+    let mut eta = b.half_width;
+    loop {
+        let z = at(eta);
+        if z == NO_ROCK {
+            // the rock ends: a free face, chip breaks out level to it
+            let depth = z_top - zb;
+            return (z_top > zb && eta - b.half_width <= b.kappa * depth).then_some(Relief {
+                reach: eta,
+                z_far: zb,
+            });
+        }
+        z_top = z_top.max(z);
+        let depth = z_top - zb;
+        if depth > 0.0 && z < z_top - 0.5 * depth {
+            // past mid-depth into a neighbouring groove (or a chip's crater)
+            if eta - b.half_width > b.kappa * depth {
+                return None;
+            }
+            // its bottom: the lowest rock on the way across it
+            let (mut z_far, mut reach) = (z, eta);
+            let mut e = eta;
+            while e < eta + 4.0 * b.half_width {
+                e += step;
+                let z = at(e);
+                if z == NO_ROCK || z > z_top - 0.5 * depth {
+                    break;
+                }
+                if z < z_far {
+                    z_far = z;
+                    reach = e;
+                }
+            }
+            return Some(Relief { reach, z_far });
+        }
+        if depth > 0.0 && eta - b.half_width > b.kappa * depth {
+            return None;
+        }
+        if eta - b.half_width > 1e3 * b.half_width {
+            return None;
+        }
+        eta += step;
+    }
+}
+
+/// Breaks out the chips at `b` on both sides of the groove: lowers every node
+/// above the chip surface to it. Returns the chips and the volume removed.
+pub fn break_out(map: &mut HeightMap, b: &Breakout) -> ChipStats {
+    let mut stats = ChipStats::default();
+    for side in [1.0, -1.0] {
+        let Some(r) = relief(map, b, side) else {
+            continue;
+        };
+        let v = lower_to_chip(map, b, side, &r);
+        if v > 0.0 {
+            stats.count += 1;
+            stats.volume += v;
+        }
+    }
+    stats
+}
+
+/// Lowers the nodes of one side's chip; returns the volume removed.
+fn lower_to_chip(map: &mut HeightMap, b: &Breakout, side: f64, r: &Relief) -> f64 {
+    let g = *map.grid();
+    let [hx, hy] = b.heading;
+    let (lx, ly) = (-hy * side, hx * side);
+    let (ox, oy) = (b.origin.x, b.origin.y);
+    // plan corners of the chip, for the node window
+    let xs = [
+        ox,
+        ox + hx * b.length,
+        ox + lx * r.reach,
+        ox + hx * b.length + lx * r.reach,
+    ];
+    let ys = [
+        oy,
+        oy + hy * b.length,
+        oy + ly * r.reach,
+        oy + hy * b.length + ly * r.reach,
+    ];
+    let lo = |v: &[f64; 4]| v.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = |v: &[f64; 4]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let Some((i0, i1, j0, j1)) = g.node_range(lo(&xs), hi(&xs), lo(&ys), hi(&ys)) else {
+        return 0.0;
+    };
+    let slope = (r.z_far - b.origin.z) / r.reach;
+    let mut dropped = 0.0;
+    for j in j0..=j1 {
+        for i in i0..=i1 {
+            let (x, y) = g.node_xy(i, j);
+            let (dx, dy) = (x - ox, y - oy);
+            let xi = dx * hx + dy * hy;
+            let eta = dx * lx + dy * ly;
+            if !(0.0..=b.length).contains(&xi) || !(0.0..=r.reach).contains(&eta) {
+                continue;
+            }
+            let z_chip = b.origin.z + slope * eta;
+            let z = map.node(i, j);
+            if z - z_chip > CUT_TOLERANCE {
+                map.set_node(i, j, z_chip);
+                dropped += z - z_chip;
+            }
+        }
+    }
+    dropped * g.cell_area()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::core::heightmap::Grid;
+
+    /// A flat face at 0 with straight grooves along x: each `(y, depth,
+    /// width)` a rectangular groove.
+    fn grooved(grooves: &[(f64, f64, f64)]) -> HeightMap {
+        let g = Grid::new(0.0, 0.4, -0.15, 0.15, 401, 301);
+        let mut m = HeightMap::flat(g, 0.0);
+        for j in 0..g.ny {
+            for i in 0..g.nx {
+                let (_, y) = g.node_xy(i, j);
+                for &(yc, d, w) in grooves {
+                    if (y - yc).abs() <= 0.5 * w + 1e-12 {
+                        m.set_node(i, j, -d);
+                    }
+                }
+            }
+        }
+        m
+    }
+
+    fn at(y: f64, kappa: f64) -> Breakout {
+        Breakout {
+            origin: Vector3::new(0.1, y, -0.004),
+            heading: [1.0, 0.0],
+            half_width: 0.0065,
+            length: 0.05,
+            kappa,
+        }
+    }
+
+    #[test]
+    fn ridge_to_a_near_groove_breaks_and_the_far_side_stands() {
+        // this groove at y = 0, the neighbour 51 mm to the right (-y), 4 mm deep
+        let mut m = grooved(&[(0.0, 0.004, 0.013), (-0.051, 0.004, 0.013)]);
+        let b = at(0.0, 15.0);
+        assert!(
+            relief(&m, &b, 1.0).is_none(),
+            "left: 140 mm of rock, no relief"
+        );
+        let r = relief(&m, &b, -1.0).expect("the 38 mm ridge is within 15 x 4 mm");
+        assert!((r.reach - 0.051).abs() < 0.0066, "{r:?}");
+        assert!((r.z_far + 0.004).abs() < 1e-12);
+        let s = break_out(&mut m, &b);
+        assert_eq!(s.count, 1);
+        // the ridge (38 mm wide, 4 mm high) plus the rest of this groove's
+        // half over 50 mm: cells counted at 1 mm, so within a cell row
+        let ridge = 0.038 * 0.004 * 0.05;
+        assert!(
+            (s.volume - ridge).abs() < 0.15 * ridge,
+            "{} vs {}",
+            s.volume,
+            ridge
+        );
+        // the face between the grooves is now at the groove bottom
+        assert!((m.height(0.12, -0.025) + 0.004).abs() < 1e-12);
+        // outside the chip's length it stands
+        assert_eq!(m.height(0.16, -0.025), 0.0);
+        assert_eq!(m.height(0.09, -0.025), 0.0);
+    }
+
+    #[test]
+    fn a_ridge_wider_than_the_crack_reach_stands() {
+        let mut m = grooved(&[(0.0, 0.004, 0.013), (-0.051, 0.004, 0.013)]);
+        // 38 mm ridge, 4 mm deep: breaks for kappa >= 9.5, stands below
+        assert!(relief(&m, &at(0.0, 9.0), -1.0).is_none());
+        assert!(relief(&m, &at(0.0, 10.0), -1.0).is_some());
+        let before = m.clone();
+        assert_eq!(break_out(&mut m, &at(0.0, 9.0)), ChipStats::default());
+        assert_eq!(m, before);
+    }
+
+    #[test]
+    fn the_edge_of_the_rock_is_a_free_surface() {
+        // groove 30 mm from the edge y = -0.15
+        let mut m = grooved(&[(-0.12, 0.004, 0.013)]);
+        let b = at(-0.12, 15.0);
+        let r = relief(&m, &b, -1.0).expect("edge 23.5 mm away");
+        assert!((r.z_far + 0.004).abs() < 1e-15);
+        assert!(break_out(&mut m, &b).count == 1);
+        assert!((m.height(0.12, -0.145) + 0.004).abs() < 1e-12);
+    }
+
+    #[test]
+    fn chip_lengths_are_seeded_scattered_and_bounded() {
+        let p = ChipParams::default();
+        let l: Vec<f64> = (0..2000).map(|k| p.chip_length(k)).collect();
+        let mean = l.iter().sum::<f64>() / l.len() as f64;
+        assert!((mean - p.length).abs() < 0.03 * p.length, "{mean}");
+        assert!(l
+            .iter()
+            .all(|&x| x >= 0.5 * p.length && x <= 1.5 * p.length));
+        assert_eq!(l[17], p.chip_length(17));
+        let q = ChipParams { seed: 2, ..p };
+        assert_ne!(l[17], q.chip_length(17));
+        let none = ChipParams {
+            length_spread: 0.0,
+            ..p
+        };
+        assert_eq!(none.chip_length(5), p.length);
+    }
+
+    #[test]
+    fn chips_break_where_the_travel_crosses_their_boundary_however_it_is_stepped() {
+        let p = ChipParams {
+            enabled: true,
+            ..ChipParams::default()
+        };
+        let run = |step: f64| {
+            let mut m = grooved(&[(0.0, 0.004, 0.013), (-0.051, 0.004, 0.013)]);
+            let mut s = ChipState::new(&p);
+            let mut x = 0.0;
+            s.after_cut(&mut m, &p, Vector3::new(x, 0.0, -0.004), true, 0.0065, 0.01);
+            while x < 0.3 {
+                x = (x + step).min(0.3);
+                s.after_cut(&mut m, &p, Vector3::new(x, 0.0, -0.004), true, 0.0065, 0.01);
+            }
+            (s, m)
+        };
+        let (a, ma) = run(0.001);
+        let (b, mb) = run(0.0037);
+        assert!(a.count >= 4, "{a:?}");
+        assert_eq!(a.count, b.count);
+        assert_eq!(a.index, b.index);
+        assert!((a.volume - b.volume).abs() < 1e-12 * a.volume);
+        assert!((a.travel - 0.3).abs() < 1e-12);
+        // same craters, node for node
+        for j in 0..301 {
+            for i in 0..401 {
+                assert!((ma.node(i, j) - mb.node(i, j)).abs() < 1e-12);
+            }
+        }
+        // a jump (new pass) is no travel; a path in the air breaks nothing
+        let mut m = grooved(&[(0.0, 0.004, 0.013), (-0.051, 0.004, 0.013)]);
+        let mut s = ChipState::new(&p);
+        s.after_cut(
+            &mut m,
+            &p,
+            Vector3::new(0.0, 0.0, -0.004),
+            true,
+            0.0065,
+            0.01,
+        );
+        s.after_cut(
+            &mut m,
+            &p,
+            Vector3::new(0.3, 0.0, -0.004),
+            true,
+            0.0065,
+            0.01,
+        );
+        assert_eq!((s.count, s.travel), (0, 0.0));
+        let mut x = 0.3;
+        while x > 0.1 {
+            x -= 0.005;
+            s.after_cut(
+                &mut m,
+                &p,
+                Vector3::new(x, 0.0, -0.004),
+                false,
+                0.0065,
+                0.01,
+            );
+        }
+        assert!((s.travel - 0.2).abs() < 1e-9 && s.index >= 2, "{s:?}");
+        assert_eq!((s.count, s.volume), (0, 0.0));
+    }
+}

@@ -68,6 +68,10 @@ const INTERFACE: &[(&str, &str, &str, &str)] = &[
     ("numerics.pReg", "Real", "parameter", "m"),
     ("numerics.sweepStep", "Real", "parameter", "m"),
     ("numerics.directionRule", "Enumeration", "parameter", ""),
+    ("chipping.enabled", "Boolean", "parameter", ""),
+    ("chipping.seed", "Integer", "parameter", ""),
+    ("chippedVolume", "Real", "output", "m3"),
+    ("chipCount", "Integer", "output", ""),
 ];
 
 /// Inputs whose start value interface.md fixes.

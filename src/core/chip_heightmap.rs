@@ -104,7 +104,12 @@ pub struct ChipState {
 }
 
 impl ChipState {
+    /// The state before the first cut (all zero with chipping off, so a
+    /// model without chips does not depend on the chip parameters).
     pub fn new(p: &ChipParams) -> Self {
+        if !p.enabled {
+            return Self::default();
+        }
         Self {
             next: p.chip_length(0),
             ..Self::default()

@@ -5,6 +5,7 @@ use std::cell::Cell;
 
 use nalgebra::{UnitQuaternion, Vector3};
 
+use super::chip_heightmap::ChipState;
 use super::contact_cutter_heightmap::{contact, Contact};
 use super::contact_thesis::contact_thesis;
 use super::csm::CsmLaw;
@@ -40,6 +41,10 @@ pub struct Outputs {
     pub cutting_energy: f64,
     /// `cutting_energy / excavated_volume`, 0 while nothing was removed \[J/m3\].
     pub specific_energy: f64,
+    /// The part of `excavated_volume` that left as chips \[m3\].
+    pub chipped_volume: f64,
+    /// Chips broken out so far.
+    pub chip_count: u64,
 }
 
 /// The discrete state: what `fmi2GetFMUstate` captures.
@@ -51,10 +56,12 @@ pub struct ModelState {
     /// Where the rock was last cut (end of the last commit or advance): the
     /// next Model Exchange commit cuts along the path from here.
     last_cut: Option<Pose>,
+    /// Where the chips are along the path (chipping on).
+    chips: ChipState,
 }
 
 const MAGIC: &[u8; 8] = b"KERFCORE";
-const VERSION: u32 = 2;
+const VERSION: u32 = 3;
 
 fn grid_of(params: &Params) -> Grid {
     let r = &params.rock;
@@ -95,6 +102,22 @@ impl ModelState {
                     p.pitch,
                     p.roll,
                 ] {
+                    v.extend_from_slice(&x.to_le_bytes());
+                }
+            }
+            None => v.push(0),
+        }
+        let c = &self.chips;
+        for x in [c.travel, c.next, c.volume] {
+            v.extend_from_slice(&x.to_le_bytes());
+        }
+        for n in [c.index, c.count] {
+            v.extend_from_slice(&n.to_le_bytes());
+        }
+        match c.last_low {
+            Some(p) => {
+                v.push(1);
+                for x in p {
                     v.extend_from_slice(&x.to_le_bytes());
                 }
             }
@@ -167,6 +190,39 @@ impl ModelState {
             }
             _ => return Err(bad("bad last-cut flag")),
         };
+        let mut cf = [0f64; 3];
+        for x in &mut cf {
+            *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
+        }
+        let index = u64::from_le_bytes(take(8)?.try_into().unwrap());
+        let count = u64::from_le_bytes(take(8)?.try_into().unwrap());
+        let last_low = match take(1)?[0] {
+            0 => None,
+            1 => {
+                let mut q = [0f64; 3];
+                for x in &mut q {
+                    *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
+                }
+                Some(q)
+            }
+            _ => return Err(bad("bad chip flag")),
+        };
+        if !cf
+            .iter()
+            .chain(last_low.iter().flatten())
+            .all(|x| x.is_finite())
+        {
+            return Err(bad("non-finite chip state"));
+        }
+        let [travel, next, volume] = cf;
+        let chips = ChipState {
+            travel,
+            index,
+            next,
+            last_low,
+            count,
+            volume,
+        };
         let mut map = HeightMap::flat(grid, params.rock.z0);
         let n = u64::from_le_bytes(take(8)?.try_into().unwrap());
         if n > map.tile_count() as u64 {
@@ -192,6 +248,7 @@ impl ModelState {
             excavated_volume: f[5],
             cutting_energy: f[6],
             last_cut,
+            chips,
         })
     }
 
@@ -311,6 +368,7 @@ impl Model {
             )?
         };
         let law = CsmLaw::new(params.cutter, params.csm, params.numerics.p_reg);
+        let chips = ChipState::new(&params.chipping);
         Ok(Self {
             params,
             law,
@@ -319,6 +377,7 @@ impl Model {
                 excavated_volume: 0.0,
                 cutting_energy: 0.0,
                 last_cut: None,
+                chips,
             },
             cache: Cell::new(None),
         })
@@ -385,6 +444,8 @@ impl Model {
         } else {
             0.0
         };
+        o.chipped_volume = s.chips.volume;
+        o.chip_count = s.chips.count;
         o
     }
 
@@ -434,10 +495,40 @@ impl Model {
             r.plastic_fraction,
         );
         self.state.excavated_volume += stats.volume;
-        if stats.nodes > 0 {
+        let chips = self.chip_at(&disc, stats.nodes > 0);
+        if stats.nodes > 0 || chips {
             self.cache.set(None);
         }
-        stats.nodes > 0
+        stats.nodes > 0 || chips
+    }
+
+    /// Longest move in plan between two poses of one path: a path is cut in
+    /// sub-steps of at most `sweep_step` of rim travel; anything longer is a
+    /// jump to a new pass.
+    fn chip_max_step(&self) -> f64 {
+        let g = self.state.map.grid();
+        2.0 * self.params.numerics.sweep_step + g.dx.max(g.dy)
+    }
+
+    /// With chipping on, records the pose `disc` on the path (`cut`: the
+    /// disc removed rock there) and breaks out the chips it has reached;
+    /// returns whether any did.
+    fn chip_at(&mut self, disc: &PosedDisc, cut: bool) -> bool {
+        let p = &self.params.chipping;
+        if !p.enabled {
+            return false;
+        }
+        let max_step = self.chip_max_step();
+        let s = self.state.chips.after_cut(
+            &mut self.state.map,
+            p,
+            disc.lowest_point(),
+            cut,
+            disc.half_width,
+            max_step,
+        );
+        self.state.excavated_volume += s.volume;
+        s.count > 0
     }
 
     /// Cuts the rock at `pose` (a Model Exchange event). `dt` is the time since
@@ -489,6 +580,18 @@ impl Model {
     pub fn advance(&mut self, start: &Pose, twist: &Twist, h: f64) -> Result<Pose> {
         check_step(h)?;
         let o0 = self.evaluate(start, twist)?;
+        if self.params.chipping.enabled {
+            // a path that does not continue the last one starts here: chip
+            // boundaries count on from this pose, not from the first sub-step
+            let low = self.disc(start).lowest_point();
+            let max_step = self.chip_max_step();
+            let c = &mut self.state.chips;
+            if c.last_low
+                .is_none_or(|p| (low.x - p[0]).hypot(low.y - p[1]) > max_step)
+            {
+                c.last_low = Some(low.into());
+            }
+        }
         let rot = start.rotation();
         let axle = rot * Vector3::y();
         let w_frame = twist.omega - axle * twist.omega.dot(&axle);

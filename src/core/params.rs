@@ -2,6 +2,7 @@
 //! thesis reference scene (Ericsson 2010, Table 2). The FMI parameters map
 //! one-to-one onto these fields (see modelDescription.xml).
 
+pub use super::chip_heightmap::ChipParams;
 use super::error::{KerfError, Result};
 
 /// Disc geometry (thesis ch. 6, constant-cross-section disc).
@@ -138,6 +139,7 @@ pub struct Params {
     pub friction: FrictionParams,
     pub rock: RockParams,
     pub numerics: Numerics,
+    pub chipping: ChipParams,
 }
 
 impl Default for CutterParams {
@@ -340,6 +342,28 @@ impl Params {
         finite_positive("numerics.elasticDepth", n.elastic_depth)?;
         finite_positive("numerics.pReg", n.p_reg)?;
         finite_positive("numerics.sweepStep", n.sweep_step)?;
+        let ch = &self.chipping;
+        if !(ch.kappa.is_finite() && (1.0..=100.0).contains(&ch.kappa)) {
+            return Err(KerfError::BadParameter {
+                name: "chipping.kappa",
+                value: ch.kappa,
+                why: "must lie in [1, 100] (crack reach over groove depth)",
+            });
+        }
+        if !(ch.length.is_finite() && (1e-3..=1.0).contains(&ch.length)) {
+            return Err(KerfError::BadParameter {
+                name: "chipping.length",
+                value: ch.length,
+                why: "must lie in [0.001, 1] m",
+            });
+        }
+        if !(ch.length_spread.is_finite() && (0.0..=0.95).contains(&ch.length_spread)) {
+            return Err(KerfError::BadParameter {
+                name: "chipping.lengthSpread",
+                value: ch.length_spread,
+                why: "must lie in [0, 0.95]",
+            });
+        }
         Ok(())
     }
 }

@@ -9,7 +9,9 @@
 use std::ffi::CString;
 use std::path::{Path, PathBuf};
 
-use crate::core::params::{CsmParams, CutterParams, FrictionParams, Numerics, RockParams};
+use crate::core::params::{
+    ChipParams, CsmParams, CutterParams, FrictionParams, Numerics, RockParams,
+};
 use crate::core::{CsmVariant, DirectionRule, Model, ModelState, Outputs, Params, Pose, Twist};
 
 use super::log::{Category, Logger, Status};
@@ -195,6 +197,10 @@ impl Values {
         self.int[md::position(md::INTEGERS, r, |v| v.vr).expect("generated value reference")]
     }
 
+    fn boolean(&self, r: u32) -> bool {
+        self.boolean[md::position(md::BOOLEANS, r, |v| v.vr).expect("generated value reference")]
+    }
+
     fn string(&self, r: u32) -> &str {
         self.string[md::position(md::STRINGS, r, |v| v.vr).expect("generated value reference")]
             .to_str()
@@ -283,6 +289,13 @@ impl Values {
                         ))
                     }
                 },
+            },
+            chipping: ChipParams {
+                enabled: self.boolean(vr::CHIPPING_ENABLED),
+                seed: self.int(vr::CHIPPING_SEED),
+                kappa: self.real(vr::CHIPPING_KAPPA),
+                length: self.real(vr::CHIPPING_LENGTH),
+                length_spread: self.real(vr::CHIPPING_LENGTH_SPREAD),
             },
         })
     }
@@ -731,7 +744,15 @@ impl Instance {
                     "fmi2GetInteger: {r} is not the value reference of an Integer or Enumeration"
                 )
             })?;
-            out[k] = self.values.int[i];
+            out[k] = if r == vr::CHIP_COUNT {
+                let n = self
+                    .outputs()
+                    .map_err(|e| format!("fmi2GetInteger(chipCount): {e}"))?
+                    .chip_count;
+                i32::try_from(n).unwrap_or(i32::MAX)
+            } else {
+                self.values.int[i]
+            };
         }
         Ok(Status::Ok)
     }
@@ -1170,6 +1191,7 @@ fn output_value(o: &Outputs, r: u32) -> f64 {
         vr::EXCAVATED_VOLUME => o.excavated_volume,
         vr::CUTTING_ENERGY => o.cutting_energy,
         vr::SPECIFIC_ENERGY => o.specific_energy,
+        vr::CHIPPED_VOLUME => o.chipped_volume,
         // build.rs guarantees that the outputs are exactly the names above.
         _ => unreachable!("Real output {r} without a mapping"),
     }

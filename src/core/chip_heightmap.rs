@@ -93,7 +93,9 @@ pub struct ChipState {
     pub travel: f64,
     /// Index of the next chip in the seeded sequence.
     pub index: u64,
-    /// Travel at which it breaks out \[m\].
+    /// Travel at which it breaks out \[m\]: the first after
+    /// `chip_length(0)` of travel, chip `k` then `chip_length(k + 1)` long,
+    /// reaching to the next boundary.
     pub next: f64,
     /// The lowest point at the last cut, while the disc is cutting.
     pub last_low: Option<[f64; 3]>,
@@ -141,13 +143,16 @@ impl ChipState {
                 let heading = [dx / ds, dy / ds];
                 let end = self.travel + ds;
                 while self.next <= end {
+                    // chip `index` runs from its boundary to the next one, so
+                    // the chips of a path tile it without gaps or overlaps
+                    let length = p.chip_length(self.index + 1);
                     if cut {
                         let f = (self.next - self.travel) / ds;
                         let b = Breakout {
                             origin: prev + (low - prev) * f,
                             heading,
                             half_width,
-                            length: p.chip_length(self.index),
+                            length,
                             kappa: p.kappa,
                         };
                         let s = break_out(map, &b);
@@ -155,7 +160,7 @@ impl ChipState {
                         stats.volume += s.volume;
                     }
                     self.index += 1;
-                    self.next += p.chip_length(self.index);
+                    self.next += length;
                 }
                 self.travel = end;
             }

@@ -1,0 +1,170 @@
+#!/usr/bin/env python3
+"""Rock chips on a virtual LCM block, through kerf.fmu in Co-Simulation (issue 9).
+
+An LCM series: passes 0.6 m long along x at depth p, side by side, each S
+further towards -y, so every pass after the first runs beside the groove (and
+the chips) of the one before: a relieved cut. The last of four passes is
+measured over 0.1 m <= x <= 0.5 m, with chipping on and off. Writes
+
+  out/chips_forces.png   the relieved pass's forces along the cut: saw-tooth vs chip-free
+  out/chips_face.png     the block's surface with the chip craters, and a cross-section
+  out/chips_se.png       specific energy against S/p, with and without chips
+  out/chips_summary.json all numbers
+
+Usage: scripts/chips [--fmu PATH] [--out DIR]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools"))
+
+import numpy as np  # noqa: E402
+
+import kerfhost as kh  # noqa: E402
+
+P = 3.8e-3           # penetration [m]
+LENGTH = 0.6         # pass length [m]
+WINDOW = (0.1, 0.5)  # measured stretch of the last pass [m]
+PASSES = 4
+H = 1e-3             # communication step [s] at 1 m/s: 1 mm
+SPACINGS = [0.03, 0.04, 0.051, 0.065, 0.08, 0.1]  # S [m]: S/p 7.9 .. 26.3
+OUT = ["normalForce", "rollingForce", "sideForce", "excavatedVolume", "cuttingEnergy",
+       "chippedVolume"]
+
+
+def block(S, chipping, final=None):
+    y_min = -(PASSES - 1) * S - 0.1  # 100 mm of rock past the last pass: no free edge
+    sv = {"rock.xMin": -0.25, "rock.xMax": 0.85, "rock.nx": 1101,
+          "rock.yMin": y_min, "rock.yMax": 0.1, "rock.ny": int(round((0.1 - y_min) / 1e-3)) + 1,
+          "csm.spacing": S, "chipping.enabled": chipping}
+    if final:
+        sv["rock.finalSurface"] = str(final)
+    return sv
+
+
+def series(fmu, S, chipping, final=None):
+    """Runs the series; returns the last pass's samples (x and OUT) and its chip count."""
+    inst = fmu.instance("CS", name=f"lcm-{S}-{chipping}")
+    R = float(fmu.start("cutter.radius"))
+    try:
+        inst.initialize(block(S, chipping, final),
+                        inputs=dict(x=0.0, y=0.0, z=R - P, vx=1.0, wy=1.0 / R))
+        t, n = 0.0, int(round(LENGTH / H))
+        for k in range(PASSES):
+            rows = []
+            for i in range(n):
+                inst.set_reals(["x", "y"], [i * H, -k * S])  # a jump starts each pass
+                inst.f.doStep(currentCommunicationPoint=t, communicationStepSize=H)
+                t += H
+                rows.append([(i + 1) * H] + list(inst.get_reals(OUT)))
+        chips = inst.get("chipCount")
+        inst.f.terminate()
+    finally:
+        inst.free(terminate=False)
+    a = np.array(rows)
+    res = {name: a[:, i + 1] for i, name in enumerate(OUT)}
+    res["x"] = a[:, 0]
+    res["chipCount"] = chips
+    return res
+
+
+def summary(res):
+    w = (res["x"] >= WINDOW[0]) & (res["x"] <= WINDOW[1])
+    e, v = res["cuttingEnergy"][w], res["excavatedVolume"][w]
+    fn = res["normalForce"][w]
+    return {"normal": float(fn.mean()), "rolling": float(res["rollingForce"][w].mean()),
+            "side": float(res["sideForce"][w].mean()),
+            "normal_peak": float(fn.max()), "normal_cv": float(fn.std() / fn.mean()),
+            "se": float((e[-1] - e[0]) / (v[-1] - v[0])), "chips": int(res["chipCount"])}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--fmu", default=str(kh.DEFAULT_FMU))
+    ap.add_argument("--out", default=str(ROOT / "out"))
+    a = ap.parse_args(argv)
+    out = Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
+    fmu = kh.FMU(a.fmu)
+    if "chipping.enabled" not in fmu.vars:
+        sys.exit(f"{a.fmu} has no chipping.enabled: rebuild it")
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows, traces = [], {}
+    print(f"LCM series, p = {P * 1e3} mm, {PASSES} passes; the last one over x = {WINDOW} m")
+    print(" S/p   S mm  chips   Fn kN  Fr kN  Fs kN  Fn peak  CV(Fn)  SE MJ/m3  chips in pass")
+    for S in SPACINGS:
+        for chipping in (False, True):
+            final = out / "chips_face.rsf" if (chipping and S == 0.051) else None
+            res = series(fmu, S, chipping, final)
+            s = summary(res)
+            s.update(S=S, ratio=S / P, chipping=chipping)
+            rows.append(s)
+            if S == 0.051:
+                traces[chipping] = res
+            print(f"{S / P:5.1f} {S * 1e3:5.0f}  {str(chipping):5}  {s['normal'] / 1e3:6.1f} "
+                  f"{s['rolling'] / 1e3:6.2f} {s['side'] / 1e3:6.2f}  {s['normal_peak'] / 1e3:7.1f} "
+                  f"{s['normal_cv']:6.3f}  {s['se'] / 1e6:8.1f}  {s['chips']}")
+    print("LCM row (Gertsch et al. 2007, thesis Table 3; S/p 13.4): 81 / 7.3 / 11.2 kN; "
+          "SE about 38 MJ/m3 if the whole ridge S x p left (inferred)")
+
+    # forces along the relieved pass
+    fig, ax = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
+    for chipping, style in ((False, "k--"), (True, "C3-")):
+        res = traces[chipping]
+        for i, name in enumerate(["normalForce", "rollingForce", "sideForce"]):
+            ax[i].plot(res["x"], res[name] / 1e3, style, lw=0.9,
+                       label="chips" if chipping else "no chips")
+            ax[i].set_ylabel(f"{name} [kN]")
+    ax[0].legend()
+    ax[0].set_title("Relieved pass beside a groove at S = 51 mm, p = 3.8 mm (thesis Table 3's LCM scene)")
+    ax[2].set_xlabel("x [m]")
+    fig.tight_layout()
+    fig.savefig(out / "chips_forces.png", dpi=110)
+
+    # the block's surface
+    X, Y, Z = kh.load_rsf(out / "chips_face.rsf")
+    sel = (X[:, 0] >= 0.0) & (X[:, 0] <= LENGTH)
+    fig, ax = plt.subplots(2, 1, figsize=(9, 7), gridspec_kw={"height_ratios": [2, 1]})
+    im = ax[0].imshow(Z[sel].T * 1e3, origin="lower", aspect="auto", cmap="viridis",
+                      extent=[X[sel][0, 0], X[sel][-1, 0], Y[0, 0], Y[0, -1]])
+    fig.colorbar(im, ax=ax[0], label="surface height [mm]")
+    ax[0].set_ylabel("y [m]")
+    ax[0].set_title("The block after 4 passes with chips (S = 51 mm): grooves and chip craters")
+    i = int(np.argmin(np.abs(X[:, 0] - 0.3)))
+    ax[1].plot(Y[i] * 1e3, Z[i] * 1e3, "C3-", label="x = 0.3 m")
+    ax[1].set_xlabel("y [mm]")
+    ax[1].set_ylabel("z [mm]")
+    ax[1].legend()
+    fig.tight_layout()
+    fig.savefig(out / "chips_face.png", dpi=110)
+
+    # specific energy against S/p
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for chipping, style in ((False, "ko--"), (True, "C3o-")):
+        rr = [r for r in rows if r["chipping"] == chipping]
+        ax.plot([r["ratio"] for r in rr], [r["se"] / 1e6 for r in rr], style,
+                label="chips" if chipping else "no chips")
+    ax.axvspan(17, 20, color="C2", alpha=0.2, label="published optimum, CRG (S/p 17-20)")
+    ax.plot([13.4], [37.7], "C0s", label="LCM row, whole ridge removed (inferred)")
+    ax.set_xlabel("S / p")
+    ax.set_ylabel("specific energy [MJ/m3]")
+    ax.set_ylim(bottom=0)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out / "chips_se.png", dpi=110)
+
+    (out / "chips_summary.json").write_text(json.dumps(rows, indent=1))
+    print(f"wrote {out}/chips_forces.png, chips_face.png, chips_se.png, chips_summary.json")
+
+
+if __name__ == "__main__":
+    main()

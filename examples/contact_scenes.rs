@@ -1,16 +1,20 @@
 //! The contact on the scenes a cutterhead makes, printed as a table:
 //! `cargo run --release --example contact_scenes -- [cell_mm ...]`.
 //! Forces are the cutter-frame means of `kerf::scenes` (kN); `W/V` is the
-//! rolling work per volume removed relative to the fresh cut's.
+//! rolling work of the cutting force (friction left out) per volume removed,
+//! relative to the fresh cut's.
 use kerf::scenes::{beside, fresh, reroll, Mean, P_REF};
 
 fn row(name: &str, m: &Mean, fresh: &Mean) {
     let wv = m.rolling_work_per_volume() / fresh.rolling_work_per_volume();
     println!(
-        "{name:<22} N {:8.2} R {:7.2} S {:7.2}  V/L {:7.2} mm2  W/V {:6.2}  {:7.1} us",
+        "{name:<18} N {:6.2} R {:6.2} S {:6.2} | cut N {:6.2} R {:6.2} S {:6.2} | V/L {:6.2} mm2  W/V {:5.2} {:6.1} us",
         m.force[0] / 1e3,
         m.force[1] / 1e3,
         m.force[2] / 1e3,
+        m.cutting[0] / 1e3,
+        m.cutting[1] / 1e3,
+        m.cutting[2] / 1e3,
         m.volume / m.length.max(1e-12) * 1e6,
         wv,
         m.us_median

@@ -24,6 +24,9 @@ pub struct Mean {
     pub force: [f64; 3],
     /// Moment about the disc centre, cutter frame \[N m\].
     pub moment: [f64; 3],
+    /// The contact's cutting force alone (no friction), cutter frame, in the
+    /// same order as `force` \[N\].
+    pub cutting: [f64; 3],
     /// Rock removed inside the window \[m3\].
     pub volume: f64,
     /// Path length of the window \[m\].
@@ -36,10 +39,11 @@ pub struct Mean {
 }
 
 impl Mean {
-    /// Rolling work per volume removed \[J/m3\] (`F_R * length / volume`).
+    /// Rolling work of the cutting force per volume removed \[J/m3\]
+    /// (`F_R * length / volume`, friction left out).
     pub fn rolling_work_per_volume(&self) -> f64 {
         if self.volume > 0.0 {
-            self.force[1] * self.length / self.volume
+            self.cutting[1] * self.length / self.volume
         } else {
             f64::INFINITY
         }
@@ -178,9 +182,14 @@ pub fn roll(model: &mut Model, track: &dyn Track, length: f64, h: f64, lo: f64, 
         let dt_us = t0.elapsed().as_secs_f64() * 1e6;
         if s >= lo - 1e-12 && s <= hi + 1e-12 {
             let (f, m) = cutter_frame(&o, &pose);
+            let c = model.contact(&pose, &tw);
+            let rt = pose.rotation().transpose();
+            let cut = rt * (c.rim_force + c.side_force);
+            let cut = [cut.z, -cut.x, cut.y];
             for i in 0..3 {
                 mean.force[i] += f[i];
                 mean.moment[i] += m[i];
+                mean.cutting[i] += cut[i];
             }
             mean.steps += 1;
             us.push(dt_us);
@@ -194,6 +203,7 @@ pub fn roll(model: &mut Model, track: &dyn Track, length: f64, h: f64, lo: f64, 
     let k = mean.steps.max(1) as f64;
     mean.force = mean.force.map(|x| x / k);
     mean.moment = mean.moment.map(|x| x / k);
+    mean.cutting = mean.cutting.map(|x| x / k);
     mean.volume = v_hi - v_lo.map_or(0.0, |v| v.0);
     us.sort_by(f64::total_cmp);
     mean.us_median = us.get(us.len() / 2).copied().unwrap_or(0.0);

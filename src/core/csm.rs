@@ -116,6 +116,11 @@ impl CsmLaw {
         phi / (2.0 + self.csm.psi)
     }
 
+    /// The pressure-distribution exponent `psi`.
+    pub fn psi(&self) -> f64 {
+        self.csm.psi
+    }
+
     /// Fraction of an arc, measured from its lowest point, at which the resultant acts.
     pub fn resultant_fraction(&self) -> f64 {
         1.0 / (2.0 + self.csm.psi)

@@ -52,7 +52,7 @@ impl Nodes for HeightMap {
         self
     }
     fn set(&mut self, i: usize, j: usize, z: f64) {
-        self.set_node(i, j, z);
+        self.lower_node(i, j, z);
     }
 }
 

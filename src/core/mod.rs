@@ -23,6 +23,7 @@ pub use pose::{Pose, Twist};
 pub mod baseline;
 pub mod chip_heightmap;
 pub mod contact_cutter_heightmap;
+pub mod contact_law;
 pub mod contact_thesis;
 pub mod csm;
 pub mod cut_cutter_heightmap;

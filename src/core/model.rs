@@ -61,7 +61,8 @@ pub struct ModelState {
 }
 
 const MAGIC: &[u8; 8] = b"KERFCORE";
-const VERSION: u32 = 3;
+/// 4: tiles carry their cut masks.
+const VERSION: u32 = 4;
 
 fn grid_of(params: &Params) -> Grid {
     let r = &params.rock;
@@ -73,8 +74,10 @@ impl ModelState {
     /// then the touched tiles only.
     pub fn to_bytes(&self) -> Vec<u8> {
         let g = self.map.grid();
-        let tiles: Vec<(usize, &[f64])> = self.map.touched_tiles().collect();
-        let mut v = Vec::with_capacity(96 + tiles.len() * (8 + TILE * TILE * 8));
+        let tiles: Vec<(usize, &[f64], &[u64])> = self.map.touched_tiles().collect();
+        let mut v = Vec::with_capacity(
+            96 + tiles.len() * (8 + TILE * TILE * 8 + HeightMap::MASK_WORDS * 8),
+        );
         v.extend_from_slice(MAGIC);
         v.extend_from_slice(&VERSION.to_le_bytes());
         for n in [g.nx as u64, g.ny as u64] {
@@ -124,10 +127,13 @@ impl ModelState {
             None => v.push(0),
         }
         v.extend_from_slice(&(tiles.len() as u64).to_le_bytes());
-        for (k, z) in tiles {
+        for (k, z, cut) in tiles {
             v.extend_from_slice(&(k as u64).to_le_bytes());
             for x in z {
                 v.extend_from_slice(&x.to_le_bytes());
+            }
+            for w in cut {
+                v.extend_from_slice(&w.to_le_bytes());
             }
         }
         v
@@ -229,6 +235,7 @@ impl ModelState {
             return Err(bad("more tiles than the grid has"));
         }
         let mut z = vec![0.0; TILE * TILE];
+        let mut cut = vec![0u64; HeightMap::MASK_WORDS];
         for _ in 0..n {
             let k = u64::from_le_bytes(take(8)?.try_into().unwrap()) as usize;
             for x in z.iter_mut() {
@@ -237,7 +244,10 @@ impl ModelState {
                     return Err(bad("non-finite height"));
                 }
             }
-            map.load_tile(k, &z)
+            for w in cut.iter_mut() {
+                *w = u64::from_le_bytes(take(8)?.try_into().unwrap());
+            }
+            map.load_tile(k, &z, &cut)
                 .ok_or_else(|| bad("tile index out of range"))?;
         }
         if pos != bytes.len() {
@@ -410,13 +420,16 @@ impl Model {
         PosedDisc::new(&self.params.cutter, pose)
     }
 
-    /// The contact geometry and cutting force (no friction) at `pose`.
-    pub fn contact(&self, pose: &Pose) -> Contact {
+    /// The contact geometry and cutting force (no friction) at `pose`, for a
+    /// disc moving with `twist`.
+    pub fn contact(&self, pose: &Pose, twist: &Twist) -> Contact {
         let disc = self.disc(pose);
         let n = &self.params.numerics;
         match n.direction {
-            DirectionRule::Kerf => contact(&self.state.map, &disc, &self.law, n, n.elastic_depth),
-            DirectionRule::Thesis => contact_thesis(&self.state.map, &disc, &self.law, n),
+            DirectionRule::Kerf => {
+                contact(&self.state.map, &disc, &self.law, n, n.elastic_depth, twist)
+            }
+            DirectionRule::Thesis => contact_thesis(&self.state.map, &disc, &self.law, n, twist),
         }
     }
 
@@ -450,7 +463,7 @@ impl Model {
     }
 
     fn compute(&self, pose: &Pose, twist: &Twist) -> Outputs {
-        let c = self.contact(pose);
+        let c = self.contact(pose, twist);
         let rot = pose.rotation();
         // friction on the slip of the rim over the rock where the contact is
         // lowest (kerf) or at the point of force application (thesis eq. 56)
@@ -462,8 +475,7 @@ impl Model {
             Vector3::zeros()
         };
         let force = c.rim_force + c.side_force + friction;
-        let moment =
-            c.application.cross(&c.rim_force) + c.slip_point.cross(&friction) + c.side_moment;
+        let moment = c.rim_moment + c.slip_point.cross(&friction) + c.side_moment;
         Outputs::from_force(force, moment, &rot, c.penetration, c.phi, c.in_contact)
     }
 

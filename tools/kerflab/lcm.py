@@ -131,6 +131,9 @@ def run_block(fmu, S, p, *, passes=PASSES, discard=DISCARD, length=LENGTH, windo
     """
     if isinstance(fmu, (str, Path)):
         fmu = open_fmu(fmu)
+    # to 0.1 nm: 51 mm read from a table (51 * 1e-3 = 0.051000000000000004) is the
+    # block of S = 0.051 - chips break out or not on the exact geometry
+    S, p = round(float(S), 10), round(float(p), 10)
     if not 0 <= discard < passes:
         raise ValueError(f"discard = {discard} must leave a pass of {passes}")
     if not 0 <= window[0] < window[1] <= length:

@@ -114,14 +114,17 @@ class Problem:
         pred = self.predict(theta, extra)
         return np.array([(pred[i][c] - m) / (self.sigma * abs(m)) for i, c, m in self.obs])
 
-    def jacobian(self, theta, steps, extra=None):
-        """Central differences of the residuals (columns: parameters)."""
+    def jacobian(self, theta, steps, extra=None, lo=None, hi=None):
+        """Central differences of the residuals (columns: parameters); one-sided
+        where a bound (lo, hi) is nearer than the step."""
         J = np.empty((len(self.obs), len(theta)))
         for j, h in enumerate(steps):
             tp, tm = np.array(theta, float), np.array(theta, float)
-            tp[j] += h
-            tm[j] -= h
-            J[:, j] = (self.residuals(tp, extra) - self.residuals(tm, extra)) / (2 * h)
+            up = hi is None or tp[j] + h <= hi[j]
+            down = lo is None or tm[j] - h >= lo[j]
+            tp[j] += h if up else 0.0
+            tm[j] -= h if down else 0.0
+            J[:, j] = (self.residuals(tp, extra) - self.residuals(tm, extra)) / (tp[j] - tm[j])
         return J
 
 
@@ -141,9 +144,9 @@ def fit_continuous(prob: Problem, theta0, extra=None, max_nfev=40):
 
     theta0 = np.asarray(theta0, float)
     lo, hi, steps = _bounds_steps(prob.fit, theta0)
-    theta0 = np.clip(theta0, lo + steps, hi - steps)
+    theta0 = np.clip(theta0, lo, hi)
     # parameters no observation depends on (e.g. friction in a pass that rolls without slip)
-    J0 = prob.jacobian(theta0, steps, extra)
+    J0 = prob.jacobian(theta0, steps, extra, lo, hi)
     active = np.abs(J0).max(axis=0) > 1e-9
     dropped = [prob.fit[j] for j in range(len(theta0)) if not active[j]]
     theta = theta0.copy()
@@ -160,7 +163,7 @@ def fit_continuous(prob: Problem, theta0, extra=None, max_nfev=40):
         r = least_squares(fun, theta0[idx], bounds=(lo[idx], hi[idx]), x_scale=steps[idx] * 100,
                           diff_step=1e-3, xtol=1e-8, ftol=1e-10, gtol=1e-10, max_nfev=max_nfev)
         theta[idx] = r.x
-    J = prob.jacobian(theta, steps, extra)
+    J = prob.jacobian(theta, steps, extra, lo, hi)
     cost = 0.5 * float(np.sum(prob.residuals(theta, extra) ** 2))
     return theta, cost, J, dropped
 

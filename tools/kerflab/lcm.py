@@ -146,7 +146,7 @@ def run_block(fmu, S, p, *, passes=PASSES, discard=DISCARD, length=LENGTH, windo
     z0 = float(sv.get("rock.z0", fmu.start("rock.z0") or 0.0))
     dt = step / v
     n = int(round(length / step))
-    inst = fmu.instance("CS", name=name or f"lcm-S{S:g}-p{p:g}", logging_on=False)
+    inst = fmu.instance("CS", name=name or f"lcm-S{S:g}-p{p:g}")
     per_pass, samples = [], []
     try:
         inst.initialize(sv, inputs=dict(x=0.0, y=0.0, z=z0 + R - p, vx=v, wy=v / R))
@@ -171,6 +171,10 @@ def run_block(fmu, S, p, *, passes=PASSES, discard=DISCARD, length=LENGTH, windo
                 samples.append(res)
         chips = int(inst.get("chipCount"))
         inst.f.terminate()
+    except kh.FMICallException as e:
+        msgs = "; ".join(r.message for r in inst.errors()) or "no message"
+        raise ValueError(f"kerf.fmu refused the block S = {S}, p = {p}, parameters {params}: "
+                         f"{e} ({msgs})") from None
     finally:
         inst.free(terminate=False)
     kept = per_pass[discard:]

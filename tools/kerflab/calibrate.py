@@ -241,6 +241,11 @@ def calibrate(fmu, table, fit=("C", "psi"), base=None, block=None, observables=O
                        "residual_rel": (pred[i][c] - m) / abs(m), "residual_sigma": float(r)}
                       for (i, c, m), r in zip(prob.obs, res)]
     report["notes"] = identifiability_notes(report, cont, dropped, prob)
+    lo, hi, steps = _bounds_steps(cont, theta)
+    for p, t, a, b, h in zip(cont, theta, lo, hi, steps):
+        if p not in dropped and (t - a < 1e-3 * h or b - t < 1e-3 * h):
+            report["notes"].append(f"{p} = {t:.4g} sits on its bound [{a:g}, {b:g}]: the data push it "
+                                   "past what is allowed, and its standard error means little")
     report["blocks_run"] = prob.evaluations
     report["seconds"] = time.monotonic() - t_start
     return report

@@ -173,7 +173,11 @@ def run_sweep(tasks, fmu_path, out_dir, *, client=None, scheduler=None, workers=
             from dask.distributed import Client, LocalCluster
             if scheduler:
                 client = Client(scheduler)
-                client.upload_file(str(_code_zip()))
+                code = _code_zip()
+                try:
+                    client.upload_file(str(code))
+                finally:
+                    code.unlink()
             else:
                 cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
                                        processes=True, dashboard_address=None)

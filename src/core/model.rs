@@ -344,6 +344,24 @@ pub(crate) fn check_interval(dt: f64) -> Result<()> {
     }
 }
 
+/// Travel of a rim point along a straight move from `a` to `b`, as the cut
+/// sub-steps count it: the move of the disc centre plus the turn between the
+/// two orientations times the disc `radius`.
+pub fn rim_travel(a: &Pose, b: &Pose, radius: f64) -> f64 {
+    let q0 = UnitQuaternion::from_rotation_matrix(&a.rotation());
+    let q1 = UnitQuaternion::from_rotation_matrix(&b.rotation());
+    (b.position - a.position).norm() + q0.angle_to(&q1) * radius
+}
+
+/// Speed of a rim point of a disc at `pose` moving with `twist`, as a
+/// Co-Simulation step counts its travel: the centre's speed plus the turn
+/// rate of the disc's frame (the spin about the axle left out) times `radius`.
+pub fn rim_speed(pose: &Pose, twist: &Twist, radius: f64) -> f64 {
+    let axle = pose.rotation() * Vector3::y();
+    let w_frame = twist.omega - axle * twist.omega.dot(&axle);
+    twist.velocity.norm() + w_frame.norm() * radius
+}
+
 pub struct Model {
     params: Params,
     law: CsmLaw,
@@ -467,6 +485,14 @@ impl Model {
         Outputs::from_force(force, moment, &rot, c.penetration, c.phi, c.in_contact)
     }
 
+    /// Rim travel ([`rim_travel`]) from the pose of the last cut to `pose`;
+    /// `None` before the first cut. Changes nothing.
+    pub fn travel_since_cut(&self, pose: &Pose) -> Option<f64> {
+        self.state
+            .last_cut
+            .map(|prev| rim_travel(&prev, pose, self.params.cutter.radius))
+    }
+
     /// Would [`Model::commit`] at `pose` change the rock?
     pub fn cuts(&self, pose: &Pose) -> Result<bool> {
         pose.validate()?;
@@ -555,7 +581,7 @@ impl Model {
                     UnitQuaternion::from_rotation_matrix(&prev.rotation()),
                     UnitQuaternion::from_rotation_matrix(&pose.rotation()),
                 );
-                let travel = jump + q0.angle_to(&q1) * self.params.cutter.radius;
+                let travel = rim_travel(&prev, pose, self.params.cutter.radius);
                 let n = (travel / self.params.numerics.sweep_step)
                     .ceil()
                     .clamp(1.0, 1.0e6) as usize;
@@ -592,10 +618,7 @@ impl Model {
                 c.last_low = Some(low.into());
             }
         }
-        let rot = start.rotation();
-        let axle = rot * Vector3::y();
-        let w_frame = twist.omega - axle * twist.omega.dot(&axle);
-        let travel = (twist.velocity.norm() + w_frame.norm() * self.params.cutter.radius) * h;
+        let travel = rim_speed(start, twist, self.params.cutter.radius) * h;
         let n = (travel / self.params.numerics.sweep_step)
             .ceil()
             .clamp(1.0, 1.0e7) as usize;

@@ -362,12 +362,24 @@ pub fn rim_speed(pose: &Pose, twist: &Twist, radius: f64) -> f64 {
     twist.velocity.norm() + w_frame.norm() * radius
 }
 
+/// Speed of a rim point about the disc centre from the spin about the axle
+/// (`|w . axle| radius`): the rim's motion that the pose does not show (a
+/// disc spinning in place skids its rim over the rock at this speed).
+pub fn rim_spin_speed(pose: &Pose, twist: &Twist, radius: f64) -> f64 {
+    let axle = pose.rotation() * Vector3::y();
+    twist.omega.dot(&axle).abs() * radius
+}
+
 pub struct Model {
     params: Params,
     law: CsmLaw,
     state: ModelState,
     /// The last evaluation (pose, twist, outputs); cleared when the rock changes.
     cache: Cell<Option<(Pose, Twist, Outputs)>>,
+    /// The outputs right after the last commit (pose, twist, outputs): the
+    /// start of the next commit's trapezoidal work. Only a cache (a restored
+    /// state recomputes it from the rock and the last cut's pose).
+    after_commit: Cell<Option<(Pose, Twist, Outputs)>>,
 }
 
 impl Model {
@@ -398,6 +410,7 @@ impl Model {
                 chips,
             },
             cache: Cell::new(None),
+            after_commit: Cell::new(None),
         })
     }
 
@@ -568,10 +581,22 @@ impl Model {
     /// make: shorter than the disc radius, or explained by the velocity
     /// inputs. A longer jump (a host that moves the cutter to start a new
     /// pass) is not a path: only the new pose is cut.
+    ///
+    /// The energy takes the trapezoidal rule between the outputs after the
+    /// previous cut and those after this one, as [`Model::advance`] does over
+    /// a step, so that events at a Co-Simulation host's communication points
+    /// book the same work.
     pub fn commit(&mut self, pose: &Pose, twist: &Twist, dt: f64) -> Result<bool> {
         check_interval(dt)?;
-        let o = self.evaluate(pose, twist)?;
-        self.state.cutting_energy += o.work_on_rock(twist, dt);
+        pose.validate()?;
+        twist.validate()?;
+        let before = match self.state.last_cut {
+            Some(prev) => Some(match self.after_commit.get() {
+                Some((p, t, o)) if p == prev && t == *twist => o,
+                _ => self.evaluate(&prev, twist)?,
+            }),
+            None => None,
+        };
         let mut changed = false;
         if let Some(prev) = self.state.last_cut {
             let jump = (pose.position - prev.position).norm();
@@ -595,6 +620,12 @@ impl Model {
         }
         changed |= self.cut_at(pose);
         self.state.last_cut = Some(*pose);
+        let after = self.evaluate(pose, twist)?;
+        self.after_commit.set(Some((*pose, *twist, after)));
+        self.state.cutting_energy += match before {
+            Some(b) => 0.5 * (b.work_on_rock(twist, dt) + after.work_on_rock(twist, dt)),
+            None => after.work_on_rock(twist, dt),
+        };
         Ok(changed)
     }
 
@@ -603,8 +634,18 @@ impl Model {
     /// sub-steps no longer than `numerics.sweep_step` of travel of any rim
     /// point, so no uncut rock is left however long `h`. The cutting energy
     /// takes the trapezoidal rule over the step. Returns the end pose.
+    ///
+    /// At the start of the run (nothing cut yet) the start pose is cut first,
+    /// as Model Exchange's initial event does: the cutter pressed into the
+    /// rock at rest has made its imprint there.
     pub fn advance(&mut self, start: &Pose, twist: &Twist, h: f64) -> Result<Pose> {
         check_step(h)?;
+        start.validate()?;
+        twist.validate()?;
+        if self.state.last_cut.is_none() {
+            self.cut_at(start);
+            self.state.last_cut = Some(*start);
+        }
         let o0 = self.evaluate(start, twist)?;
         if self.params.chipping.enabled {
             // a path that does not continue the last one starts here: chip
@@ -651,6 +692,7 @@ impl Model {
         }
         self.state = s.clone();
         self.cache.set(None);
+        self.after_commit.set(None);
         Ok(())
     }
 

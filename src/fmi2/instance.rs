@@ -13,7 +13,8 @@ use crate::core::params::{
     ChipParams, CsmParams, CutterParams, FrictionParams, Numerics, RockParams,
 };
 use crate::core::{
-    rim_speed, CsmVariant, DirectionRule, Model, ModelState, Outputs, Params, Pose, Twist,
+    rim_speed, rim_spin_speed, CsmVariant, DirectionRule, Model, ModelState, Outputs, Params, Pose,
+    Twist,
 };
 
 use super::log::{Category, Logger, Status};
@@ -933,17 +934,24 @@ impl Instance {
 
     // ---- Model Exchange -------------------------------------------------
 
-    /// The event indicator: `numerics.sweepStep` minus the rim travel from
-    /// the last committed cut to the current pose inputs. Positive while the
-    /// cutter is within one sweep step of the cut, zero when it has travelled
-    /// a sweep step. Evaluated without changing anything; `sweepStep` itself
-    /// before the first cut.
+    /// The event indicator: `numerics.sweepStep` minus the rim travel since
+    /// the last committed cut. Positive while the cutter is within one sweep
+    /// step of the cut, zero when it has travelled a sweep step. The travel is
+    /// the larger of the pose's (from the last cut's pose to the current pose
+    /// inputs) and the rim's spin about the axle since the last commit (which
+    /// the pose does not show: a disc spinning in place does friction work
+    /// that the energy must book). Evaluated without changing anything;
+    /// `sweepStep` itself before the first cut.
     pub fn event_indicator(&self) -> f64 {
         let step = self.values.real(vr::NUMERICS_SWEEP_STEP);
-        self.model
-            .as_ref()
-            .and_then(|m| m.travel_since_cut(&self.values.pose()))
-            .map_or(step, |d| step - d)
+        let pose = self.values.pose();
+        let Some(travel) = self.model.as_ref().and_then(|m| m.travel_since_cut(&pose)) else {
+            return step;
+        };
+        let radius = self.values.real(vr::CUTTER_RADIUS);
+        let spin = rim_spin_speed(&pose, &self.values.twist(), radius)
+            * (self.time - self.last_commit_time);
+        step - travel.max(spin)
     }
 
     pub fn get_event_indicators(&self, out: &mut [f64]) -> Res<Status> {
@@ -999,7 +1007,8 @@ impl Instance {
     fn backstop_event_time(&self) -> Option<f64> {
         let step = self.values.real(vr::NUMERICS_SWEEP_STEP);
         let radius = self.values.real(vr::CUTTER_RADIUS);
-        let speed = rim_speed(&self.values.pose(), &self.values.twist(), radius);
+        let (pose, twist) = (self.values.pose(), self.values.twist());
+        let speed = rim_speed(&pose, &twist, radius).max(rim_spin_speed(&pose, &twist, radius));
         let left = self.event_indicator() + (TIME_EVENT_SWEEPS - 1.0) * step;
         let t = self.time + left / speed;
         (speed > 0.0 && left > 0.0 && t.is_finite() && t > self.time).then_some(t)

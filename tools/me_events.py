@@ -167,26 +167,33 @@ def main(argv=None):
     ap.add_argument("--stop", type=float, default=0.5, help="stop time [s] (default 0.5)")
     ap.add_argument("--tol", type=float, default=1e-6, help="CVode relative tolerance")
     ap.add_argument("--out", type=Path, help="also write the table (Markdown) here")
+    ap.add_argument("--max-events", type=int, default=None,
+                    help="stop the PyFMI-like loop after this many events (the old FMU makes "
+                         "one per internal step); the table shows the time reached")
     a = ap.parse_args(argv)
     fmus = a.fmu or [Path(__file__).resolve().parents[1] / "target/fmu/kerf.fmu"]
     rows = []
     for f in fmus:
         md = read_model_description(str(f))
         for host, fn in (("fmpy CVode", run_fmpy), ("PyFMI-like CVode", run_pyfmi_like)):
-            r = fn(f, stop=a.stop, tol=a.tol)
+            kw = {"max_events": a.max_events} if fn is run_pyfmi_like else {}
+            r = fn(f, stop=a.stop, tol=a.tol, **kw)
             rows.append((str(f), md.numberOfEventIndicators, host, r))
-            print(f"{f} (ni={md.numberOfEventIndicators}) {host:17s} events {r['events']:7d}  "
+            print(f"{f} (ni={md.numberOfEventIndicators}) {host:17s} t {r['t']:.6f} s  "
+                  f"events {r['events']:7d}  "
                   f"steps {r['steps']:7d}  wall {r['wall']:7.2f} s  rollingForce "
                   f"{r['rollingForce']:8.1f} N  cuttingEnergy {r['cuttingEnergy']:9.3f} J", flush=True)
     if a.out:
         lines = [f"# Model Exchange events: {a.stop} s of the reference roll, CVode rtol {a.tol}", "",
                  "Produced by `.venv/bin/python tools/me_events.py "
-                 + " ".join(f"--fmu {f}" for f in fmus) + f" --stop {a.stop} --out {a.out}`.", "",
-                 "| FMU | event indicators | host loop | events | completedIntegratorStep calls "
-                 "| wall [s] | rollingForce [N] | cuttingEnergy [J] |",
-                 "|---|---|---|---|---|---|---|---|"]
+                 + " ".join(f"--fmu {f}" for f in fmus) + f" --stop {a.stop}"
+                 + (f" --max-events {a.max_events}" if a.max_events else "") + f" --out {a.out}`.", "",
+                 "| FMU | event indicators | host loop | time reached [s] | events "
+                 "| completedIntegratorStep calls | wall [s] | rollingForce [N] | cuttingEnergy [J] |",
+                 "|---|---|---|---|---|---|---|---|---|"]
         for f, ni, host, r in rows:
-            lines.append(f"| {f} | {ni} | {host} | {r['events']} | {r['steps']} | {r['wall']:.2f} "
+            lines.append(f"| {f} | {ni} | {host} | {r['t']:.6g} | {r['events']} | {r['steps']} "
+                         f"| {r['wall']:.2f} "
                          f"| {r['rollingForce']:.1f} | {r['cuttingEnergy']:.3f} |")
         a.out.parent.mkdir(parents=True, exist_ok=True)
         a.out.write_text("\n".join(lines) + "\n")

@@ -453,7 +453,7 @@ pub fn check_and_generate(text: &str) -> String {
 
     check_structure(md, &vars);
 
-    generate(guid, &categories, &vars, &enums)
+    generate(guid, event_indicators, &categories, &vars, &enums)
 }
 
 fn check_variable(
@@ -692,6 +692,7 @@ fn variability_ident(c: &str) -> &'static str {
 
 fn generate(
     guid: &str,
+    event_indicators: &str,
     categories: &[String],
     vars: &[Var],
     enums: &HashMap<String, Vec<(String, i32)>>,
@@ -710,7 +711,11 @@ fn generate(
     .unwrap();
     writeln!(w, "pub const GUID: &str = {};", rust_str(guid)).unwrap();
     writeln!(w, "/// `numberOfEventIndicators` of modelDescription.xml.").unwrap();
-    writeln!(w, "pub const NUMBER_OF_EVENT_INDICATORS: usize = 1;").unwrap();
+    writeln!(
+        w,
+        "pub const NUMBER_OF_EVENT_INDICATORS: usize = {event_indicators};"
+    )
+    .unwrap();
     writeln!(w, "/// The log categories of `<LogCategories>`, in order.").unwrap();
     writeln!(
         w,

@@ -138,6 +138,40 @@ def test_ecos_co_simulation(fmu, reference):
     agrees(res, reference, "Ecos CS", rel_force=1e-9, rel_cut=1e-9)
 
 
+def test_ecos_command_line_default_run(fmu, tmp_path):
+    """`ecos simulate` (the CLI in the ecospy wheel) with kerf's start values:
+    the cutter pressed in at rest, 0.2 s. The wheel installs binaries/ecos
+    without the executable bit (ecospy 0.7.2 packaging), so the test runs a
+    copy made executable."""
+    import shutil
+    import stat
+    import ecospy
+    src = Path(ecospy.__file__).parent / "binaries" / "ecos"
+    exe = tmp_path / "ecos"
+    shutil.copy(src, exe)
+    exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
+    p = subprocess.run([str(exe), "simulate", "--path", str(fmu.path), "--stepSize", str(H),
+                        "--stopTime", "0.2"], capture_output=True, text=True, timeout=300,
+                       cwd=tmp_path)
+    log = p.stdout + p.stderr
+    assert p.returncode == 0, log[-3000:]
+    assert "[error]" not in log and "[warning]" not in log, log[-3000:]
+    with open(tmp_path / "kerf.csv", newline="") as f:
+        rows = list(csv.reader(f))
+    head = [h.strip() for h in rows[0]]
+    col = head.index("instance::normalForce[REAL]")
+    fn = np.array([float(r[col]) for r in rows[1:]])
+    assert len(fn) >= 200  # rows from t = 0 every 1 ms (Ecos writes 0 .. 0.199)
+    inst = fmu.instance("CS", name="hosts-at-rest")
+    try:
+        inst.initialize()
+        want = inst.get_reals(["normalForce"])[0]
+    finally:
+        inst.free()
+    assert want > 0
+    assert fn == pytest.approx(np.full_like(fn, want), rel=1e-6)  # CSV: 6 decimals
+
+
 def test_fmutool_static_check(fmu):
     exe = BIN / "fmutool"
     assert exe.exists(), "fmutool (fmu-manipulation-toolbox, requirements.txt) not installed"

@@ -208,8 +208,20 @@ pub fn check_and_generate(text: &str) -> String {
         .attribute("guid")
         .filter(|g| !g.trim().is_empty())
         .unwrap_or_else(|| fail("no guid".into()));
-    if md.attribute("numberOfEventIndicators").unwrap_or("0") != "0" {
-        fail("numberOfEventIndicators must be 0: the FMU has no event indicators".into());
+    // One event indicator: numerics.sweepStep minus the rim travel since the
+    // last committed cut (src/fmi2/instance.rs, Instance::event_indicator).
+    let event_indicators = md.attribute("numberOfEventIndicators").unwrap_or("0");
+    if event_indicators != "1" {
+        fail(format!(
+            "numberOfEventIndicators must be 1 (the cut event: sweepStep minus the travel since the last cut), not \"{event_indicators}\""
+        ));
+    }
+    // A tolerance for the hosts' variable-step solvers (PyFMI warns without).
+    let de = child(md, "DefaultExperiment")
+        .unwrap_or_else(|| fail("no <DefaultExperiment> element".into()));
+    match de.attribute("tolerance").map(|t| t.trim().parse::<f64>()) {
+        Some(Ok(t)) if t > 0.0 && t < 1.0 => {}
+        _ => fail("<DefaultExperiment> needs a tolerance in (0, 1)".into()),
     }
 
     // Both interfaces, same identifier, the capability flags of interface.md.
@@ -441,7 +453,7 @@ pub fn check_and_generate(text: &str) -> String {
 
     check_structure(md, &vars);
 
-    generate(guid, &categories, &vars, &enums)
+    generate(guid, event_indicators, &categories, &vars, &enums)
 }
 
 fn check_variable(
@@ -680,6 +692,7 @@ fn variability_ident(c: &str) -> &'static str {
 
 fn generate(
     guid: &str,
+    event_indicators: &str,
     categories: &[String],
     vars: &[Var],
     enums: &HashMap<String, Vec<(String, i32)>>,
@@ -697,6 +710,12 @@ fn generate(
     )
     .unwrap();
     writeln!(w, "pub const GUID: &str = {};", rust_str(guid)).unwrap();
+    writeln!(w, "/// `numberOfEventIndicators` of modelDescription.xml.").unwrap();
+    writeln!(
+        w,
+        "pub const NUMBER_OF_EVENT_INDICATORS: usize = {event_indicators};"
+    )
+    .unwrap();
     writeln!(w, "/// The log categories of `<LogCategories>`, in order.").unwrap();
     writeln!(
         w,

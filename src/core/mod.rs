@@ -17,7 +17,10 @@ pub mod pose;
 mod model;
 
 pub use error::{KerfError, Result};
-pub use model::{friction_coefficient, friction_force, Model, ModelState, Outputs};
+pub use model::{
+    friction_coefficient, friction_force, rim_speed, rim_spin_speed, rim_travel, Model, ModelState,
+    Outputs,
+};
 pub use params::{CsmVariant, DirectionRule, Params};
 pub use pose::{Pose, Twist};
 pub mod baseline;

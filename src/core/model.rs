@@ -354,12 +354,42 @@ pub(crate) fn check_interval(dt: f64) -> Result<()> {
     }
 }
 
+/// Travel of a rim point along a straight move from `a` to `b`, as the cut
+/// sub-steps count it: the move of the disc centre plus the turn between the
+/// two orientations times the disc `radius`.
+pub fn rim_travel(a: &Pose, b: &Pose, radius: f64) -> f64 {
+    let q0 = UnitQuaternion::from_rotation_matrix(&a.rotation());
+    let q1 = UnitQuaternion::from_rotation_matrix(&b.rotation());
+    (b.position - a.position).norm() + q0.angle_to(&q1) * radius
+}
+
+/// Speed of a rim point of a disc at `pose` moving with `twist`, as a
+/// Co-Simulation step counts its travel: the centre's speed plus the turn
+/// rate of the disc's frame (the spin about the axle left out) times `radius`.
+pub fn rim_speed(pose: &Pose, twist: &Twist, radius: f64) -> f64 {
+    let axle = pose.rotation() * Vector3::y();
+    let w_frame = twist.omega - axle * twist.omega.dot(&axle);
+    twist.velocity.norm() + w_frame.norm() * radius
+}
+
+/// Speed of a rim point about the disc centre from the spin about the axle
+/// (`|w . axle| radius`): the rim's motion that the pose does not show (a
+/// disc spinning in place skids its rim over the rock at this speed).
+pub fn rim_spin_speed(pose: &Pose, twist: &Twist, radius: f64) -> f64 {
+    let axle = pose.rotation() * Vector3::y();
+    twist.omega.dot(&axle).abs() * radius
+}
+
 pub struct Model {
     params: Params,
     law: CsmLaw,
     state: ModelState,
     /// The last evaluation (pose, twist, outputs); cleared when the rock changes.
     cache: Cell<Option<(Pose, Twist, Outputs)>>,
+    /// The outputs right after the last commit (pose, twist, outputs): the
+    /// start of the next commit's trapezoidal work. Only a cache (a restored
+    /// state recomputes it from the rock and the last cut's pose).
+    after_commit: Cell<Option<(Pose, Twist, Outputs)>>,
 }
 
 impl Model {
@@ -390,6 +420,7 @@ impl Model {
                 chips,
             },
             cache: Cell::new(None),
+            after_commit: Cell::new(None),
         })
     }
 
@@ -479,6 +510,14 @@ impl Model {
         Outputs::from_force(force, moment, &rot, c.penetration, c.phi, c.in_contact)
     }
 
+    /// Rim travel ([`rim_travel`]) from the pose of the last cut to `pose`;
+    /// `None` before the first cut. Changes nothing.
+    pub fn travel_since_cut(&self, pose: &Pose) -> Option<f64> {
+        self.state
+            .last_cut
+            .map(|prev| rim_travel(&prev, pose, self.params.cutter.radius))
+    }
+
     /// Would [`Model::commit`] at `pose` change the rock?
     pub fn cuts(&self, pose: &Pose) -> Result<bool> {
         pose.validate()?;
@@ -554,10 +593,22 @@ impl Model {
     /// make: shorter than the disc radius, or explained by the velocity
     /// inputs. A longer jump (a host that moves the cutter to start a new
     /// pass) is not a path: only the new pose is cut.
+    ///
+    /// The energy takes the trapezoidal rule between the outputs after the
+    /// previous cut and those after this one, as [`Model::advance`] does over
+    /// a step, so that events at a Co-Simulation host's communication points
+    /// book the same work.
     pub fn commit(&mut self, pose: &Pose, twist: &Twist, dt: f64) -> Result<bool> {
         check_interval(dt)?;
-        let o = self.evaluate(pose, twist)?;
-        self.state.cutting_energy += o.work_on_rock(twist, dt);
+        pose.validate()?;
+        twist.validate()?;
+        let before = match self.state.last_cut {
+            Some(prev) => Some(match self.after_commit.get() {
+                Some((p, t, o)) if p == prev && t == *twist => o,
+                _ => self.evaluate(&prev, twist)?,
+            }),
+            None => None,
+        };
         let mut changed = false;
         if let Some(prev) = self.state.last_cut {
             let jump = (pose.position - prev.position).norm();
@@ -567,7 +618,7 @@ impl Model {
                     UnitQuaternion::from_rotation_matrix(&prev.rotation()),
                     UnitQuaternion::from_rotation_matrix(&pose.rotation()),
                 );
-                let travel = jump + q0.angle_to(&q1) * self.params.cutter.radius;
+                let travel = rim_travel(&prev, pose, self.params.cutter.radius);
                 let n = (travel / self.params.numerics.sweep_step)
                     .ceil()
                     .clamp(1.0, 1.0e6) as usize;
@@ -581,6 +632,12 @@ impl Model {
         }
         changed |= self.cut_at(pose);
         self.state.last_cut = Some(*pose);
+        let after = self.evaluate(pose, twist)?;
+        self.after_commit.set(Some((*pose, *twist, after)));
+        self.state.cutting_energy += match before {
+            Some(b) => 0.5 * (b.work_on_rock(twist, dt) + after.work_on_rock(twist, dt)),
+            None => after.work_on_rock(twist, dt),
+        };
         Ok(changed)
     }
 
@@ -589,8 +646,18 @@ impl Model {
     /// sub-steps no longer than `numerics.sweep_step` of travel of any rim
     /// point, so no uncut rock is left however long `h`. The cutting energy
     /// takes the trapezoidal rule over the step. Returns the end pose.
+    ///
+    /// At the start of the run (nothing cut yet) the start pose is cut first,
+    /// as Model Exchange's initial event does: the cutter pressed into the
+    /// rock at rest has made its imprint there.
     pub fn advance(&mut self, start: &Pose, twist: &Twist, h: f64) -> Result<Pose> {
         check_step(h)?;
+        start.validate()?;
+        twist.validate()?;
+        if self.state.last_cut.is_none() {
+            self.cut_at(start);
+            self.state.last_cut = Some(*start);
+        }
         let o0 = self.evaluate(start, twist)?;
         if self.params.chipping.enabled {
             // a path that does not continue the last one starts here: chip
@@ -604,10 +671,7 @@ impl Model {
                 c.last_low = Some(low.into());
             }
         }
-        let rot = start.rotation();
-        let axle = rot * Vector3::y();
-        let w_frame = twist.omega - axle * twist.omega.dot(&axle);
-        let travel = (twist.velocity.norm() + w_frame.norm() * self.params.cutter.radius) * h;
+        let travel = rim_speed(start, twist, self.params.cutter.radius) * h;
         let n = (travel / self.params.numerics.sweep_step)
             .ceil()
             .clamp(1.0, 1.0e7) as usize;
@@ -640,6 +704,7 @@ impl Model {
         }
         self.state = s.clone();
         self.cache.set(None);
+        self.after_commit.set(None);
         Ok(())
     }
 

@@ -770,14 +770,12 @@ pub unsafe extern "C" fn fmi2GetEventIndicators(
     eventIndicators: *mut fmi2Real,
     ni: usize,
 ) -> fmi2Status {
-    let _ = eventIndicators;
-    with(c, "fmi2GetEventIndicators", |i| {
-        i.no_states(
-            "fmi2GetEventIndicators",
-            mask::GET_EVENT_INDICATORS,
-            ni,
-            "ni",
-        )
+    const F: &str = "fmi2GetEventIndicators";
+    with(c, F, |i| {
+        // SAFETY: the host passes ni writable fmi2Reals (checked against the
+        // model's count before anything is written).
+        let out = unsafe { output(eventIndicators, ni, F, "eventIndicators") }?;
+        i.get_event_indicators(out)
     })
 }
 const _: fmi2GetEventIndicatorsTYPE = Some(fmi2GetEventIndicators);

@@ -112,32 +112,10 @@ impl RimCircle {
     #[inline]
     fn overlap(&self, map: &HeightMap, s: f64, c: f64, dir: f64, look: f64) -> (f64, f64) {
         let p = self.base + self.ex * s + self.ez * c;
-        let here = map.height(p.x, p.y) - p.z;
-        if here > 0.0 {
-            // inside the rock already: the look-ahead cannot change the sign
-            return (here, here);
-        }
         // horizontal direction of the walk (d/dtheta of the point)
         let tx = dir * (self.ex.x * c - self.ez.x * s);
         let ty = dir * (self.ex.y * c - self.ez.y * s);
-        let n2 = tx * tx + ty * ty;
-        if n2 > 1e-12 * self.ex.norm_squared() {
-            // one cell ahead along the walk; and diagonally ahead on either
-            // side where no node of the cell has been cut: a groove's edge is
-            // blurred across the walk as well, and the map knows which nodes
-            // a cut has lowered
-            let k = look / n2.sqrt();
-            let (ax, ay) = (k * tx, k * ty);
-            let mut z = map.bilinear(p.x + ax, p.y + ay);
-            for (dx, dy) in [(ax - ay, ay + ax), (ax + ay, ay - ax)] {
-                if let Some(u) = map.bilinear_uncut(p.x + dx, p.y + dy) {
-                    z = z.max(u);
-                }
-            }
-            (here, here.max(z - p.z))
-        } else {
-            (here, here)
-        }
+        rock_over(map, &p, tx, ty, 1e-12 * self.ex.norm_squared(), look)
     }
 
     /// Angles where the rim's world coordinate `axis` (0 = x, 1 = y) equals `e`.
@@ -157,6 +135,46 @@ impl RimCircle {
     fn z(&self, theta: f64) -> f64 {
         self.base.z + self.ex.z * theta.sin() + self.ez.z * theta.cos()
     }
+}
+
+/// The rock over the surface point `p` met by a walk whose horizontal
+/// direction is `(tx, ty)`: `(here, ahead)`, the overlap of the rock here and
+/// the larger of that and the overlap of the rock one `look` further along
+/// the walk, or diagonally ahead on either side where no node of the cell
+/// has been cut, when the cell ahead has an uncut node itself: the edge of a
+/// groove cut into the face is blurred across the walk as well, and the map
+/// knows which nodes a cut lowered; a walk inside an older groove (the cell
+/// ahead all cut) does not borrow that groove's uncut wall. Walks with
+/// `tx^2 + ty^2 <= tiny` (vertical) do not look ahead.
+#[inline]
+pub fn rock_over(
+    map: &HeightMap,
+    p: &Vector3<f64>,
+    tx: f64,
+    ty: f64,
+    tiny: f64,
+    look: f64,
+) -> (f64, f64) {
+    let here = map.height(p.x, p.y) - p.z;
+    if here > 0.0 {
+        // inside the rock already: the look-ahead cannot change the sign
+        return (here, here);
+    }
+    let n2 = tx * tx + ty * ty;
+    if n2 <= tiny {
+        return (here, here);
+    }
+    let k = look / n2.sqrt();
+    let (ax, ay) = (k * tx, k * ty);
+    let mut z = map.bilinear(p.x + ax, p.y + ay);
+    if map.any_uncut(p.x + ax, p.y + ay) {
+        for (dx, dy) in [(ax - ay, ay + ax), (ax + ay, ay - ax)] {
+            if let Some(u) = map.bilinear_uncut(p.x + dx, p.y + dy) {
+                z = z.max(u);
+            }
+        }
+    }
+    (here, here.max(z - p.z))
 }
 
 /// Refines a sign change of `f` between `t_in` (f > 0) and `t_out` (f <= 0)
@@ -389,6 +407,143 @@ const MAX_RINGS: usize = 24;
 /// leaves between its sub-steps.
 const LOOK_AHEAD_CELLS: f64 = 4.0;
 
+/// Below this penetration \[m\] the pressure level keeps its value at this
+/// depth. The CSM charges the full tip width (`T R phi`) at any depth, while a
+/// round tip shallower than this touches less than three quarters of it
+/// (9.9 of 13 mm at 1 mm for the thesis's disc): the closed form's level
+/// there would charge a sliver of contact for a full-width cut. Fresh cuts
+/// from 1 mm down are the CSM closed form exactly.
+pub const LEVEL_DEPTH: f64 = 1.0e-3;
+
+/// The look-ahead travel \[m\] for cells of `look` (the larger side).
+pub fn look_ahead(look: f64, num: &Numerics) -> f64 {
+    LOOK_AHEAD_CELLS * look.max(num.sweep_step)
+}
+
+/// How much deeper than the elastic layer the rock ahead must reach to
+/// count as still there: the elastic depth, or the height-map's own
+/// interpolation error across the tip profile (`cell^2 / (8 r)`), whichever
+/// is larger.
+pub fn still_there_tolerance(elastic_depth: f64, look: f64, disc: &PosedDisc) -> f64 {
+    elastic_depth.max(0.125 * look * look / disc.tip_radius)
+}
+
+/// One arc's share of the load: its whole-arc and driving loads blended by
+/// how fast the disc moves, the driving part weighed by whether the rock it
+/// drives into is still there (three points of its longest driving part,
+/// carried `look_ahead` along the motion), all faded by how deep the rock
+/// reaches over the arc (`u_max`) and by the law's regularisation at the
+/// arc's depth `reg` (an arc shallower than `numerics.pReg` grows linearly
+/// from first touch, as the CSM law does). Returns the load and the fraction
+/// of the whole arc's force it keeps (which scales the arc's depth in the
+/// side blend).
+#[allow(clippy::too_many_arguments)]
+pub fn arc_contribution(
+    map: &HeightMap,
+    motion: &Motion,
+    e: &Element,
+    (t0, t1): (f64, f64),
+    (whole, drive): (Load, Load),
+    (u_max, reg): (f64, f64),
+    elastic_depth: f64,
+    eta: f64,
+) -> (Load, f64) {
+    let sigma = motion.moving;
+    let mut still_there = 1.0;
+    if sigma > 0.0 && drive.force != Vector3::zeros() {
+        let (parts, np) = e.driving_parts(t0, t1);
+        if let Some(&(a, b)) = parts[..np]
+            .iter()
+            .max_by(|p, q| (p.1 - p.0).total_cmp(&(q.1 - q.0)))
+        {
+            let mut sum = 0.0;
+            for f in [0.25, 0.5, 0.75] {
+                let x = motion.ahead(&e.point(a + (b - a) * f));
+                let u = map.height(x.x, x.y) - x.z;
+                sum += smoothstep((u - elastic_depth - eta) / eta);
+            }
+            still_there = sum / 3.0;
+        }
+    }
+    let fade = smoothstep(u_max / elastic_depth) * reg;
+    let load = (whole.scaled(1.0 - sigma) + drive.scaled(sigma * still_there)).scaled(fade);
+    let wn = whole.force.norm();
+    let eff = if wn > 0.0 {
+        (load.force.norm() / wn).min(1.0)
+    } else {
+        0.0
+    };
+    (load, eff)
+}
+
+/// The contact from the summed loads `[rim | face][side]` (cutter frame,
+/// unit pressure) and each side's effective depth: the side blend
+/// `p^4 / (p+^4 + p-^4)`, the penetration, the pressure level of `n` slices
+/// and the rock-frame forces. `None` when no side reaches any depth. Also
+/// returns the blend weights.
+pub fn assemble(
+    disc: &PosedDisc,
+    law: &CsmLaw,
+    n: usize,
+    loads: [[Load; 2]; 2],
+    depth: [f64; 2],
+) -> Option<(Contact, (f64, f64))> {
+    let (wp, wm) = {
+        let (a, b) = (depth[0].powi(4), depth[1].powi(4));
+        if a + b > 0.0 {
+            (a / (a + b), b / (a + b))
+        } else {
+            (0.5, 0.5)
+        }
+    };
+    let p = wp * depth[0] + wm * depth[1];
+    if p <= 0.0 {
+        return None;
+    }
+    // the pressure level that makes a fresh straight cut the CSM closed form,
+    // held at its LEVEL_DEPTH value below that depth
+    let phi = contact_angle(disc.radius, p.min(2.0 * disc.radius));
+    let pl = p.max(LEVEL_DEPTH);
+    let phl = contact_angle(disc.radius, pl.min(2.0 * disc.radius));
+    let reg = |d: f64| law.regularisation(d);
+    let (lr, ln) = pressure_level(
+        disc,
+        n,
+        pl,
+        law.psi(),
+        law.force(pl),
+        law.resultant_angle(phl),
+        &reg,
+    );
+    let finish = |l: [Load; 2]| {
+        let f = l[0].force * wp + l[1].force * wm;
+        let m = l[0].moment * wp + l[1].moment * wm;
+        let f = Vector3::new(lr * f.x, ln * f.y, ln * f.z);
+        (disc.rot * f, disc.rot * (m * ln))
+    };
+    let (rim_force, rim_moment) = finish(loads[0]);
+    let (side_force, side_moment) = finish(loads[1]);
+    let application = if rim_force.norm_squared() > 0.0 {
+        rim_force.cross(&rim_moment) / rim_force.norm_squared()
+    } else {
+        Vector3::zeros()
+    };
+    Some((
+        Contact {
+            in_contact: true,
+            penetration: p,
+            phi,
+            rim_force,
+            rim_moment,
+            application,
+            side_force,
+            side_moment,
+            ..Contact::default()
+        },
+        (wp, wm),
+    ))
+}
+
 /// A circle of the disc's surface about the axle that the query walks.
 #[derive(Debug, Clone, Copy, Default)]
 struct Circle {
@@ -514,8 +669,7 @@ pub fn contact(
 
     // the load of every arc
     let psi = law.psi();
-    let eta = elastic_depth.max(0.125 * look * look / disc.tip_radius);
-    let sigma = motion.moving;
+    let eta = still_there_tolerance(elastic_depth, look, disc);
     let mut loads = [[Load::default(); 2]; 2]; // [rim | face][side]
     let mut depth = [0.0f64; 2];
     let mut any = false;
@@ -549,34 +703,17 @@ pub fn contact(
                 (arc.b, arc.a, false)
             };
             let (whole, drive) = arc_load(&e, t0, t1, far_hi, psi);
-            // is the rock it drives into still there? (three points of the
-            // longest driving part, carried `look_ahead` along the motion)
-            let mut still_there = 1.0;
-            if sigma > 0.0 && drive.force != Vector3::zeros() {
-                let (parts, np) = e.driving_parts(t0, t1);
-                if let Some(&(a, b)) = parts[..np]
-                    .iter()
-                    .max_by(|p, q| (p.1 - p.0).total_cmp(&(q.1 - q.0)))
-                {
-                    let mut sum = 0.0;
-                    for f in [0.25, 0.5, 0.75] {
-                        let x = motion.ahead(&e.point(a + (b - a) * f));
-                        let u = map.height(x.x, x.y) - x.z;
-                        sum += smoothstep((u - elastic_depth - eta) / eta);
-                    }
-                    still_there = sum / 3.0;
-                }
-            }
-            // elastic fade of this arc: how deep the rock reaches over it
-            let fade = smoothstep(arc.u_max / elastic_depth);
-            let load = (whole.scaled(1.0 - sigma) + drive.scaled(sigma * still_there)).scaled(fade);
-            let wn = whole.force.norm();
-            let frac = if wn > 0.0 {
-                (load.force.norm() / wn).min(1.0)
-            } else {
-                0.0
-            };
-            depth[s] = depth[s].max(arc.depth * frac);
+            let (load, eff) = arc_contribution(
+                map,
+                &motion,
+                &e,
+                (t0, t1),
+                (whole, drive),
+                (arc.u_max, law.regularisation(arc.depth)),
+                elastic_depth,
+                eta,
+            );
+            depth[s] = depth[s].max(arc.depth * eff);
             let part = usize::from(c.face != 0.0);
             let l = &mut loads[part][s];
             *l += load;
@@ -585,43 +722,12 @@ pub fn contact(
     if !any {
         return none;
     }
-    // which side cuts
-    let (wp, wm) = {
-        let (a, b) = (depth[0].powi(4), depth[1].powi(4));
-        if a + b > 0.0 {
-            (a / (a + b), b / (a + b))
-        } else {
-            (0.5, 0.5)
-        }
+    let Some((mut c, (wp, wm))) = assemble(disc, law, n, loads, depth) else {
+        return Contact {
+            in_contact: true,
+            ..Contact::default()
+        };
     };
-    let p = wp * depth[0] + wm * depth[1];
-    let mut c = Contact {
-        in_contact: true,
-        ..Contact::default()
-    };
-    if p <= 0.0 {
-        return c;
-    }
-    // the pressure level that makes a fresh straight cut the CSM closed form
-    let phi = contact_angle(disc.radius, p.min(2.0 * disc.radius));
-    let (lr, ln) = pressure_level(disc, n, p, psi, law.force(p), law.resultant_angle(phi));
-    let finish = |l: [Load; 2]| {
-        let f = l[0].force * wp + l[1].force * wm;
-        let m = l[0].moment * wp + l[1].moment * wm;
-        let f = Vector3::new(lr * f.x, ln * f.y, ln * f.z);
-        (disc.rot * f, disc.rot * (m * ln))
-    };
-    let (rf, rm) = finish(loads[0]);
-    let (sf, sm) = finish(loads[1]);
-    c.penetration = p;
-    c.phi = phi;
-    c.rim_force = rf;
-    c.rim_moment = rm;
-    c.side_force = sf;
-    c.side_moment = sm;
-    if rf.norm_squared() > 0.0 {
-        c.application = rf.cross(&rm) / rf.norm_squared();
-    }
     // friction reads the slip where the cutting rim arc is lowest
     if let Some((kg, _)) = gov {
         let [ap, am] = arcs[kg];

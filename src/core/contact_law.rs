@@ -381,7 +381,8 @@ pub fn arc_load(e: &Element, lo: f64, hi: f64, far_hi: bool, psi: f64) -> (Load,
 
 /// `lambda_R(p)` and `lambda_N(p)`: the CSM rolling and normal force at `p`
 /// over the same law's integral on a fresh straight cut at `p` with `n`
-/// slices (0 where that integral vanishes).
+/// slices, each slice's arc weighed by `reg(its depth)` as the law weighs it
+/// (0 where that integral vanishes).
 pub fn pressure_level(
     disc: &PosedDisc,
     n: usize,
@@ -389,6 +390,7 @@ pub fn pressure_level(
     psi: f64,
     f_t: f64,
     beta: f64,
+    reg: &dyn Fn(f64) -> f64,
 ) -> (f64, f64) {
     let still = Motion {
         v: Vector3::new(1.0, 0.0, 0.0),
@@ -411,8 +413,9 @@ pub fn pressure_level(
         let phi = ((rho - pk) / rho).clamp(-1.0, 1.0).acos();
         let e = Element::rim(disc, y, dy, &still);
         let (whole, _) = arc_load(&e, 0.0, phi, true, psi);
-        ir -= whole.force.x;
-        inn += whole.force.z;
+        let w = reg(pk);
+        ir -= whole.force.x * w;
+        inn += whole.force.z * w;
     }
     let lr = if ir > 0.0 { f_t * beta.sin() / ir } else { 0.0 };
     let ln = if inn > 0.0 {

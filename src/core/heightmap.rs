@@ -323,6 +323,17 @@ impl HeightMap {
         a + (b - a) * fv
     }
 
+    /// Does the cell holding `(x, y)` have a node no cut has lowered?
+    #[inline]
+    pub fn any_uncut(&self, x: f64, y: f64) -> bool {
+        self.grid.cell(x, y).is_some_and(|(i, j, _, _)| {
+            !(self.is_cut(i, j)
+                && self.is_cut(i + 1, j)
+                && self.is_cut(i, j + 1)
+                && self.is_cut(i + 1, j + 1))
+        })
+    }
+
     /// Bilinear height of the cell holding `(x, y)` when no cut has lowered
     /// any of its four nodes, else `None`: where the rock is still the face
     /// it was cut from.

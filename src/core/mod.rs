@@ -25,6 +25,7 @@ pub use params::{CsmVariant, DirectionRule, Params};
 pub use pose::{Pose, Twist};
 pub mod baseline;
 pub mod chip_heightmap;
+pub mod contact_bruteforce;
 pub mod contact_cutter_heightmap;
 pub mod contact_law;
 pub mod contact_thesis;

@@ -464,6 +464,26 @@ impl Model {
         }
     }
 
+    /// The contact law at `pose` by brute force (`contact_bruteforce`): the
+    /// oracle the fast query is tested against.
+    pub fn contact_brute(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        res: &super::contact_bruteforce::Resolution,
+    ) -> Contact {
+        let n = &self.params.numerics;
+        super::contact_bruteforce::contact_brute(
+            &self.state.map,
+            &self.disc(pose),
+            &self.law,
+            n,
+            n.elastic_depth,
+            twist,
+            res,
+        )
+    }
+
     /// Contact force for `pose`, against the committed rock. Never changes the rock.
     pub fn evaluate(&self, pose: &Pose, twist: &Twist) -> Result<Outputs> {
         pose.validate()?;

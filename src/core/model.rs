@@ -9,11 +9,11 @@ use super::chip_heightmap::ChipState;
 use super::contact_cutter_heightmap::{contact, Contact};
 use super::contact_thesis::contact_thesis;
 use super::csm::CsmLaw;
-use super::cut_cutter_heightmap::{cut, would_cut};
+use super::cut_cutter_heightmap::{cut, window_nodes, would_cut};
 use super::cutter::PosedDisc;
 use super::error::{KerfError, Result};
 use super::heightmap::{Grid, HeightMap, TILE};
-use super::params::{DirectionRule, Params};
+use super::params::{DirectionRule, Params, MAX_NODE_VISITS_PER_CALL, MAX_SUBSTEPS_PER_CALL};
 use super::pose::{advance_pose, Pose, Twist};
 use super::rsf;
 
@@ -545,8 +545,8 @@ impl Model {
     pub fn commit(&mut self, pose: &Pose, twist: &Twist, dt: f64) -> Result<bool> {
         check_interval(dt)?;
         let o = self.evaluate(pose, twist)?;
-        self.state.cutting_energy += o.work_on_rock(twist, dt);
-        let mut changed = false;
+        // the path, checked whole before anything changes
+        let mut path: Option<(UnitQuaternion<f64>, UnitQuaternion<f64>, Pose, usize)> = None;
         if let Some(prev) = self.state.last_cut {
             let jump = (pose.position - prev.position).norm();
             let explained = jump <= 2.0 * twist.velocity.norm() * dt + self.params.cutter.radius;
@@ -556,20 +556,89 @@ impl Model {
                     UnitQuaternion::from_rotation_matrix(&pose.rotation()),
                 );
                 let travel = jump + q0.angle_to(&q1) * self.params.cutter.radius;
-                let n = (travel / self.params.numerics.sweep_step)
-                    .ceil()
-                    .clamp(1.0, 1.0e6) as usize;
-                for k in 1..n {
-                    let t = k as f64 / n as f64;
-                    let q = q0.slerp(&q1, t);
-                    let p = prev.position + (pose.position - prev.position) * t;
-                    changed |= self.cut_at(&Pose::from_rotation(p, &q.to_rotation_matrix()));
-                }
+                let n = self.sub_steps(travel, "the solver step since the last event", dt)?;
+                path = Some((q0, q1, prev, n));
             }
         }
-        changed |= self.cut_at(pose);
-        self.state.last_cut = Some(*pose);
-        Ok(changed)
+        let along = |k: usize| -> Pose {
+            let (q0, q1, prev, n) = path.unwrap();
+            let t = k as f64 / n as f64;
+            let q = q0.slerp(&q1, t);
+            let p = prev.position + (pose.position - prev.position) * t;
+            Pose::from_rotation(p, &q.to_rotation_matrix())
+        };
+        let n = path.map_or(1, |p| p.3);
+        self.check_visits(
+            (1..n).map(along).chain(std::iter::once(*pose)),
+            "the solver step since the last event",
+            dt,
+        )?;
+        self.transaction(|m| {
+            m.state.cutting_energy += o.work_on_rock(twist, dt);
+            let mut changed = false;
+            for k in 1..n {
+                changed |= m.cut_at(&along(k));
+            }
+            changed |= m.cut_at(pose);
+            m.state.last_cut = Some(*pose);
+            Ok(changed)
+        })
+    }
+
+    /// Runs `f`, a change of the discrete state, all or nothing: on an
+    /// error (or a panic, which goes on unwinding) the state and the
+    /// evaluation cache are put back as they were.
+    fn transaction<T>(&mut self, f: impl FnOnce(&mut Self) -> Result<T>) -> Result<T> {
+        let saved = (self.state.clone(), self.cache.get());
+        match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(self))) {
+            Ok(Ok(v)) => Ok(v),
+            Ok(Err(e)) => {
+                self.state = saved.0;
+                self.cache.set(saved.1);
+                Err(e)
+            }
+            Err(panic) => {
+                self.state = saved.0;
+                self.cache.set(saved.1);
+                std::panic::resume_unwind(panic)
+            }
+        }
+    }
+
+    /// Sub-steps of a path of `travel` of rim travel, within the work one
+    /// call may do; `what` and `span` (its duration) name the call's step.
+    fn sub_steps(&self, travel: f64, what: &str, span: f64) -> Result<usize> {
+        let s = self.params.numerics.sweep_step;
+        let n = (travel / s).ceil().max(1.0);
+        if n <= MAX_SUBSTEPS_PER_CALL {
+            return Ok(n as usize);
+        }
+        let parts = (n / MAX_SUBSTEPS_PER_CALL).ceil();
+        Err(KerfError::TooMuchWork(format!(
+            "{what} ({span} s) moves the rim {travel:e} m, {n:e} sub-steps of numerics.sweepStep = {s} m, \
+             more than the {MAX_SUBSTEPS_PER_CALL:e} one call may take: split it into at least \
+             {parts} steps of at most {:e} s",
+            span / parts
+        )))
+    }
+
+    /// Checks every pose of a path and the nodes its cuts would scan.
+    fn check_visits(&self, poses: impl Iterator<Item = Pose>, what: &str, span: f64) -> Result<()> {
+        let mut visits = 0.0;
+        for p in poses {
+            p.validate()?;
+            visits += window_nodes(&self.state.map, &self.disc(&p)) as f64;
+        }
+        if visits <= MAX_NODE_VISITS_PER_CALL {
+            return Ok(());
+        }
+        let parts = (visits / MAX_NODE_VISITS_PER_CALL).ceil();
+        Err(KerfError::TooMuchWork(format!(
+            "{what} ({span} s) would scan {visits:e} height-map nodes, more than the \
+             {MAX_NODE_VISITS_PER_CALL:e} one call may: split it into at least {parts} steps \
+             of at most {:e} s",
+            span / parts
+        )))
     }
 
     /// Moves the cutter from `start` along `twist` for `h` seconds, cutting the
@@ -580,36 +649,38 @@ impl Model {
     pub fn advance(&mut self, start: &Pose, twist: &Twist, h: f64) -> Result<Pose> {
         check_step(h)?;
         let o0 = self.evaluate(start, twist)?;
-        if self.params.chipping.enabled {
-            // a path that does not continue the last one starts here: chip
-            // boundaries count on from this pose, not from the first sub-step
-            let low = self.disc(start).lowest_point();
-            let max_step = self.chip_max_step();
-            let c = &mut self.state.chips;
-            if c.last_low
-                .is_none_or(|p| (low.x - p[0]).hypot(low.y - p[1]) > max_step)
-            {
-                c.last_low = Some(low.into());
-            }
-        }
         let rot = start.rotation();
         let axle = rot * Vector3::y();
         let w_frame = twist.omega - axle * twist.omega.dot(&axle);
         let travel = (twist.velocity.norm() + w_frame.norm() * self.params.cutter.radius) * h;
-        let n = (travel / self.params.numerics.sweep_step)
-            .ceil()
-            .clamp(1.0, 1.0e7) as usize;
-        let mut end = *start;
-        for k in 1..=n {
-            end = advance_pose(start, twist, h * k as f64 / n as f64);
-            end.validate()?;
-            self.cut_at(&end);
-        }
-        self.cache.set(None);
-        let o1 = self.evaluate(&end, twist)?;
-        self.state.cutting_energy += 0.5 * (o0.work_on_rock(twist, h) + o1.work_on_rock(twist, h));
-        self.state.last_cut = Some(end);
-        Ok(end)
+        let n = self.sub_steps(travel, "the step", h)?;
+        let along = |k: usize| advance_pose(start, twist, h * k as f64 / n as f64);
+        // the whole path is checked before anything changes
+        self.check_visits((1..=n).map(along), "the step", h)?;
+        self.transaction(|m| {
+            if m.params.chipping.enabled {
+                // a path that does not continue the last one starts here: chip
+                // boundaries count on from this pose, not from the first sub-step
+                let low = m.disc(start).lowest_point();
+                let max_step = m.chip_max_step();
+                let c = &mut m.state.chips;
+                if c.last_low
+                    .is_none_or(|p| (low.x - p[0]).hypot(low.y - p[1]) > max_step)
+                {
+                    c.last_low = Some(low.into());
+                }
+            }
+            let mut end = *start;
+            for k in 1..=n {
+                end = along(k);
+                m.cut_at(&end);
+            }
+            m.cache.set(None);
+            let o1 = m.evaluate(&end, twist)?;
+            m.state.cutting_energy += 0.5 * (o0.work_on_rock(twist, h) + o1.work_on_rock(twist, h));
+            m.state.last_cut = Some(end);
+            Ok(end)
+        })
     }
 
     /// A copy of the discrete state.

@@ -956,8 +956,8 @@ impl Instance {
                         });
                     }
                 }
+                // the commit is all or nothing: the instance is as it was
                 Err(e) => {
-                    self.mode = Error;
                     return Err(format!(
                         "fmi2NewDiscreteStates: committing the cut failed: {e}"
                     ));
@@ -1076,10 +1076,9 @@ impl Instance {
                 self.log_event(|| format!("fmi2DoStep: t = {t}, h = {h} done"));
                 Ok(Status::Ok)
             }
-            Err(e) => {
-                self.mode = Error;
-                Err(format!("fmi2DoStep(t = {t}, h = {h}) failed: {e}"))
-            }
+            // the step is all or nothing: the instance is as it was, and a
+            // shorter step may follow
+            Err(e) => Err(format!("fmi2DoStep(t = {t}, h = {h}) failed: {e}")),
         }
     }
 

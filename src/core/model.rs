@@ -137,12 +137,13 @@ impl ModelState {
     /// and blobs made for another height-map grid.
     pub fn from_bytes(bytes: &[u8], params: &Params) -> Result<Self> {
         let bad = |why: &str| KerfError::BadState(why.to_string());
-        let mut pos = 0usize;
-        let mut take = |n: usize| -> Result<&[u8]> {
+        params.validate()?;
+        let pos = Cell::new(0usize);
+        let take = |n: usize| -> Result<&[u8]> {
             let s = bytes
-                .get(pos..pos + n)
+                .get(pos.get()..pos.get() + n)
                 .ok_or_else(|| bad("the blob is truncated"))?;
-            pos += n;
+            pos.set(pos.get() + n);
             Ok(s)
         };
         if take(8)? != MAGIC {
@@ -223,11 +224,17 @@ impl ModelState {
             count,
             volume,
         };
-        let mut map = HeightMap::flat(grid, params.rock.z0);
         let n = u64::from_le_bytes(take(8)?.try_into().unwrap());
-        if n > map.tile_count() as u64 {
+        // sizes against the blob and the grid before anything is built
+        let tile_bytes = (8 + TILE * TILE * 8) as u64;
+        if n.checked_mul(tile_bytes) != Some((bytes.len() - pos.get()) as u64) {
+            return Err(bad("the tile count does not match the blob's size"));
+        }
+        let tiles = grid.nx.div_ceil(TILE) as u64 * grid.ny.div_ceil(TILE) as u64;
+        if n > tiles {
             return Err(bad("more tiles than the grid has"));
         }
+        let mut map = HeightMap::flat(grid, params.rock.z0);
         let mut z = vec![0.0; TILE * TILE];
         for _ in 0..n {
             let k = u64::from_le_bytes(take(8)?.try_into().unwrap()) as usize;
@@ -240,7 +247,7 @@ impl ModelState {
             map.load_tile(k, &z)
                 .ok_or_else(|| bad("tile index out of range"))?;
         }
-        if pos != bytes.len() {
+        if pos.get() != bytes.len() {
             return Err(bad("trailing bytes"));
         }
         Ok(Self {

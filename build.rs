@@ -85,6 +85,7 @@ fn check_bounds(vars: &[Var]) {
         MIN_CELL,
         MAX_NODES,
         MAX_DISC_NODES,
+        MAX_ARC_STEPS,
         MIN_SWEEP_STEP_CELLS,
         MAX_SUBSTEPS_PER_CALL,
         MAX_NODE_VISITS_PER_CALL,

@@ -77,7 +77,7 @@ fn a_refused_event_commit_changes_nothing() {
     assert_eq!(fmu.set_real(vr::NUMERICS_SWEEP_STEP, 2e-5), OK);
     assert_eq!(fmu.exit_init(), OK, "{:?}", fmu.errors());
     fmu.event_iteration();
-    // 2.5 m of path at sweepStep 20 um: 125 000 sub-steps
+    // 2.5 m of path at sweepStep 20 um: 125 000 sub-steps, over the bound
     assert_eq!(fmu.set_reals(&[vr::X, vr::VX], &[2.5, 1.0]), OK);
     assert_eq!(fmu.set_time(2.0), OK);
     assert_eq!(fmu.enter_event_mode(), OK);

@@ -57,6 +57,10 @@ pub const MAX_NODES: f64 = 1e9;
 /// Largest number of nodes under the disc's plan box, `(2R/dx + 3) (2R/dy + 3)`
 /// clipped to the grid: what one cut or one cut probe may scan.
 pub const MAX_DISC_NODES: f64 = 1e8;
+/// Most steps of the contact-arc walk in one evaluation,
+/// `numerics.tipSlices * pi R / (numerics.arcStepCells * min(dx, dy))`
+/// (the default scene takes 1.5e3).
+pub const MAX_ARC_STEPS: f64 = 2e6;
 /// Smallest `numerics.sweepStep` in cells (`min(dx, dy)`): below it one
 /// millimetre of travel costs more sub-steps than it can resolve.
 pub const MIN_SWEEP_STEP_CELLS: f64 = 0.01;
@@ -64,9 +68,9 @@ pub const MIN_SWEEP_STEP_CELLS: f64 = 0.01;
 // Work one call may do (checked before the call changes anything):
 
 /// Sub-steps of one fmi2DoStep or one Model Exchange commit.
-pub const MAX_SUBSTEPS_PER_CALL: f64 = 1e5;
+pub const MAX_SUBSTEPS_PER_CALL: f64 = 2e4;
 /// Height-map nodes one fmi2DoStep or commit may scan (over all its sub-steps).
-pub const MAX_NODE_VISITS_PER_CALL: f64 = 2e8;
+pub const MAX_NODE_VISITS_PER_CALL: f64 = 5e7;
 /// Lines one surface file may have (written at fmi2Terminate, or read).
 pub const MAX_SURFACE_LINES: f64 = 1e8;
 /// Longest line of a surface file that is read, in bytes.

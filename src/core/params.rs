@@ -345,6 +345,17 @@ impl Params {
                 ),
             ));
         }
+        let arc_steps =
+            n.tip_slices as f64 * std::f64::consts::PI * c.radius / (n.arc_step_cells * cell);
+        if arc_steps > MAX_ARC_STEPS {
+            return Err(rule(
+                "numerics.arcStepCells",
+                n.arc_step_cells,
+                format!(
+                    "one evaluation would walk {arc_steps:e} arc steps (numerics.tipSlices * pi * cutter.radius / (arcStepCells * cell)), more than {MAX_ARC_STEPS:e}: a larger arc step, fewer tip slices or coarser cells"
+                ),
+            ));
+        }
         if n.sweep_step < MIN_SWEEP_STEP_CELLS * cell {
             return Err(rule(
                 "numerics.sweepStep",

@@ -235,6 +235,13 @@ pub fn write(path: &Path, map: &HeightMap) -> Result<()> {
             ),
         ));
     }
+    // an existing path must be a regular file: opening a FIFO to write
+    // blocks until someone reads it, a device never fills up
+    if let Ok(m) = std::fs::metadata(path) {
+        if !m.is_file() {
+            return Err(err(path, 0, "exists and is not a regular file"));
+        }
+    }
     let f = std::fs::File::create(path).map_err(|e| err(path, 0, format!("cannot create: {e}")))?;
     let mut w = BufWriter::new(f);
     let mut s = String::new();

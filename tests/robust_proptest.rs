@@ -9,7 +9,7 @@ use proptest::prelude::*;
 /// Sets the parameter called `name` (a row of the table) to `v`.
 fn set(p: &mut Params, name: &str, v: f64) {
     let u = |v: f64| {
-        if v >= 0.0 && v < 1e18 {
+        if (0.0..1e18).contains(&v) {
             v as usize
         } else {
             usize::MAX

@@ -74,6 +74,46 @@ const INTERFACE: &[(&str, &str, &str, &str)] = &[
     ("chipCount", "Integer", "output", ""),
 ];
 
+// The parameter bounds of the core (`PARAMETER_BOUNDS` and the rules between
+// parameters), shared with src/core/params.rs so the numbers exist once.
+include!(concat!(env!("CARGO_MANIFEST_DIR"), "/src/core/bounds.rs"));
+
+/// Every row of `PARAMETER_BOUNDS` is mirrored exactly by its variable's
+/// `min` and `max`, and every parameter start value lies inside it.
+fn check_bounds(vars: &[Var]) {
+    let _ = (
+        MIN_CELL,
+        MAX_NODES,
+        MAX_DISC_NODES,
+        MAX_ARC_STEPS,
+        MIN_SWEEP_STEP_CELLS,
+        MAX_SUBSTEPS_PER_CALL,
+        MAX_NODE_VISITS_PER_CALL,
+        MAX_SURFACE_LINES,
+        MAX_SURFACE_LINE_BYTES,
+    );
+    for &(name, lo, hi) in PARAMETER_BOUNDS {
+        let v = vars.iter().find(|v| v.name == name).unwrap_or_else(|| {
+            fail(format!(
+                "src/core/bounds.rs bounds \"{name}\", which is not a variable"
+            ))
+        });
+        let parse = |what: &str, s: Option<&str>| -> Option<f64> {
+            s.map(|s| parse_f64(&format!("{name} {what}"), s))
+        };
+        let (min, max) = (
+            parse("min", v.min.as_deref()),
+            parse("max", v.max.as_deref()),
+        );
+        if min != Some(lo) || max != Some(hi) {
+            fail(format!(
+                "{name}: min/max must mirror src/core/bounds.rs: min=\"{lo:e}\" max=\"{hi:e}\" (found {:?} / {:?})",
+                v.min, v.max
+            ));
+        }
+    }
+}
+
 /// Inputs whose start value interface.md fixes.
 const FIXED_STARTS: &[(&str, f64)] = &[("z", 0.2121)];
 
@@ -451,6 +491,7 @@ pub fn check_and_generate(text: &str) -> String {
         }
     }
 
+    check_bounds(&vars);
     check_structure(md, &vars);
 
     generate(guid, event_indicators, &categories, &vars, &enums)

@@ -5,11 +5,13 @@ use std::fmt;
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum KerfError {
-    /// A parameter is out of its domain (name, value, why).
+    /// A parameter is out of its domain (name, value, why): outside its
+    /// allowed range (`bounds.rs`, the range is in `why`) or breaking a rule
+    /// between parameters.
     BadParameter {
         name: &'static str,
         value: f64,
-        why: &'static str,
+        why: std::borrow::Cow<'static, str>,
     },
     /// An input is not finite or absurd (name, value).
     BadInput { name: &'static str, value: f64 },
@@ -21,6 +23,10 @@ pub enum KerfError {
     },
     /// A serialized state blob is corrupt, foreign or from another grid.
     BadState(String),
+    /// One call would do more work than a call may (sub-steps, nodes visited
+    /// or written); the message says how to split it. Refused before
+    /// anything changed.
+    TooMuchWork(String),
 }
 
 impl fmt::Display for KerfError {
@@ -41,6 +47,7 @@ impl fmt::Display for KerfError {
                 write!(f, "surface file {file}, line {line}: {what}")
             }
             KerfError::BadState(why) => write!(f, "FMU state rejected: {why}"),
+            KerfError::TooMuchWork(why) => write!(f, "refused, nothing changed: {why}"),
         }
     }
 }

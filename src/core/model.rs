@@ -9,11 +9,11 @@ use super::chip_heightmap::ChipState;
 use super::contact_cutter_heightmap::{contact, Contact};
 use super::contact_thesis::contact_thesis;
 use super::csm::CsmLaw;
-use super::cut_cutter_heightmap::{cut, would_cut};
+use super::cut_cutter_heightmap::{cut, window_nodes, would_cut};
 use super::cutter::PosedDisc;
 use super::error::{KerfError, Result};
 use super::heightmap::{Grid, HeightMap, TILE};
-use super::params::{DirectionRule, Params};
+use super::params::{DirectionRule, Params, MAX_NODE_VISITS_PER_CALL, MAX_SUBSTEPS_PER_CALL};
 use super::pose::{advance_pose, Pose, Twist};
 use super::rsf;
 
@@ -143,12 +143,13 @@ impl ModelState {
     /// and blobs made for another height-map grid.
     pub fn from_bytes(bytes: &[u8], params: &Params) -> Result<Self> {
         let bad = |why: &str| KerfError::BadState(why.to_string());
-        let mut pos = 0usize;
-        let mut take = |n: usize| -> Result<&[u8]> {
+        params.validate()?;
+        let pos = Cell::new(0usize);
+        let take = |n: usize| -> Result<&[u8]> {
             let s = bytes
-                .get(pos..pos + n)
+                .get(pos.get()..pos.get() + n)
                 .ok_or_else(|| bad("the blob is truncated"))?;
-            pos += n;
+            pos.set(pos.get() + n);
             Ok(s)
         };
         if take(8)? != MAGIC {
@@ -229,11 +230,17 @@ impl ModelState {
             count,
             volume,
         };
-        let mut map = HeightMap::flat(grid, params.rock.z0);
         let n = u64::from_le_bytes(take(8)?.try_into().unwrap());
-        if n > map.tile_count() as u64 {
+        // sizes against the blob and the grid before anything is built
+        let tile_bytes = (8 + TILE * TILE * 8 + HeightMap::MASK_WORDS * 8) as u64;
+        if n.checked_mul(tile_bytes) != Some((bytes.len() - pos.get()) as u64) {
+            return Err(bad("the tile count does not match the blob's size"));
+        }
+        let tiles = grid.nx.div_ceil(TILE) as u64 * grid.ny.div_ceil(TILE) as u64;
+        if n > tiles {
             return Err(bad("more tiles than the grid has"));
         }
+        let mut map = HeightMap::flat(grid, params.rock.z0);
         let mut z = vec![0.0; TILE * TILE];
         let mut cut = vec![0u64; HeightMap::MASK_WORDS];
         for _ in 0..n {
@@ -250,7 +257,7 @@ impl ModelState {
             map.load_tile(k, &z, &cut)
                 .ok_or_else(|| bad("tile index out of range"))?;
         }
-        if pos != bytes.len() {
+        if pos.get() != bytes.len() {
             return Err(bad("trailing bytes"));
         }
         Ok(Self {
@@ -629,7 +636,8 @@ impl Model {
             }),
             None => None,
         };
-        let mut changed = false;
+        // the path, checked whole before anything changes
+        let mut path: Option<(UnitQuaternion<f64>, UnitQuaternion<f64>, Pose, usize)> = None;
         if let Some(prev) = self.state.last_cut {
             let jump = (pose.position - prev.position).norm();
             let explained = jump <= 2.0 * twist.velocity.norm() * dt + self.params.cutter.radius;
@@ -639,26 +647,94 @@ impl Model {
                     UnitQuaternion::from_rotation_matrix(&pose.rotation()),
                 );
                 let travel = rim_travel(&prev, pose, self.params.cutter.radius);
-                let n = (travel / self.params.numerics.sweep_step)
-                    .ceil()
-                    .clamp(1.0, 1.0e6) as usize;
-                for k in 1..n {
-                    let t = k as f64 / n as f64;
-                    let q = q0.slerp(&q1, t);
-                    let p = prev.position + (pose.position - prev.position) * t;
-                    changed |= self.cut_at(&Pose::from_rotation(p, &q.to_rotation_matrix()));
-                }
+                let n = self.sub_steps(travel, "the solver step since the last event", dt)?;
+                path = Some((q0, q1, prev, n));
             }
         }
-        changed |= self.cut_at(pose);
-        self.state.last_cut = Some(*pose);
-        let after = self.evaluate(pose, twist)?;
-        self.after_commit.set(Some((*pose, *twist, after)));
-        self.state.cutting_energy += match before {
-            Some(b) => 0.5 * (b.work_on_rock(twist, dt) + after.work_on_rock(twist, dt)),
-            None => after.work_on_rock(twist, dt),
+        let along = |k: usize| -> Pose {
+            let (q0, q1, prev, n) = path.unwrap();
+            let t = k as f64 / n as f64;
+            let q = q0.slerp(&q1, t);
+            let p = prev.position + (pose.position - prev.position) * t;
+            Pose::from_rotation(p, &q.to_rotation_matrix())
         };
-        Ok(changed)
+        let n = path.map_or(1, |p| p.3);
+        self.check_visits(
+            (1..n).map(along).chain(std::iter::once(*pose)),
+            "the solver step since the last event",
+            dt,
+        )?;
+        self.transaction(|m| {
+            let mut changed = false;
+            for k in 1..n {
+                changed |= m.cut_at(&along(k));
+            }
+            changed |= m.cut_at(pose);
+            m.state.last_cut = Some(*pose);
+            let after = m.evaluate(pose, twist)?;
+            m.after_commit.set(Some((*pose, *twist, after)));
+            m.state.cutting_energy += match before {
+                Some(b) => 0.5 * (b.work_on_rock(twist, dt) + after.work_on_rock(twist, dt)),
+                None => after.work_on_rock(twist, dt),
+            };
+            Ok(changed)
+        })
+    }
+
+    /// Runs `f`, a change of the discrete state, all or nothing: on an
+    /// error (or a panic, which goes on unwinding) the state and the
+    /// evaluation cache are put back as they were.
+    fn transaction<T>(&mut self, f: impl FnOnce(&mut Self) -> Result<T>) -> Result<T> {
+        let saved = (self.state.clone(), self.cache.get());
+        match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(self))) {
+            Ok(Ok(v)) => Ok(v),
+            Ok(Err(e)) => {
+                self.state = saved.0;
+                self.cache.set(saved.1);
+                Err(e)
+            }
+            Err(panic) => {
+                self.state = saved.0;
+                self.cache.set(saved.1);
+                std::panic::resume_unwind(panic)
+            }
+        }
+    }
+
+    /// Sub-steps of a path of `travel` of rim travel, within the work one
+    /// call may do; `what` and `span` (its duration) name the call's step.
+    fn sub_steps(&self, travel: f64, what: &str, span: f64) -> Result<usize> {
+        let s = self.params.numerics.sweep_step;
+        let n = (travel / s).ceil().max(1.0);
+        if n <= MAX_SUBSTEPS_PER_CALL {
+            return Ok(n as usize);
+        }
+        let parts = (n / MAX_SUBSTEPS_PER_CALL).ceil();
+        Err(KerfError::TooMuchWork(format!(
+            "{what} ({span} s) moves the rim {travel:e} m, {n:e} sub-steps of numerics.sweepStep = {s} m, \
+             more than the {MAX_SUBSTEPS_PER_CALL:e} one call may take: split it into at least \
+             {parts} steps of at most {:e} s",
+            span / parts
+        )))
+    }
+
+    /// Checks every pose of a path and the nodes its cuts would scan.
+    fn check_visits(&self, poses: impl Iterator<Item = Pose>, what: &str, span: f64) -> Result<()> {
+        let mut visits = 0.0;
+        for p in poses {
+            p.validate()?;
+            visits += window_nodes(&self.state.map, &self.disc(&p)) as f64;
+        }
+        if visits <= MAX_NODE_VISITS_PER_CALL {
+            return Ok(());
+        }
+        let parts = (visits / MAX_NODE_VISITS_PER_CALL).ceil();
+        Err(KerfError::TooMuchWork(format!(
+            "{what} ({span} s) would scan {visits:e} height-map nodes, more than the \
+             {MAX_NODE_VISITS_PER_CALL:e} one call may: split it into at least {parts} steps \
+             of at most {:e} s",
+            span / parts
+        )))
     }
 
     /// Moves the cutter from `start` along `twist` for `h` seconds, cutting the
@@ -674,38 +750,40 @@ impl Model {
         check_step(h)?;
         start.validate()?;
         twist.validate()?;
-        if self.state.last_cut.is_none() {
-            self.cut_at(start);
-            self.state.last_cut = Some(*start);
-        }
-        let o0 = self.evaluate(start, twist)?;
-        if self.params.chipping.enabled {
-            // a path that does not continue the last one starts here: chip
-            // boundaries count on from this pose, not from the first sub-step
-            let low = self.disc(start).lowest_point();
-            let max_step = self.chip_max_step();
-            let c = &mut self.state.chips;
-            if c.last_low
-                .is_none_or(|p| (low.x - p[0]).hypot(low.y - p[1]) > max_step)
-            {
-                c.last_low = Some(low.into());
-            }
-        }
         let travel = rim_speed(start, twist, self.params.cutter.radius) * h;
-        let n = (travel / self.params.numerics.sweep_step)
-            .ceil()
-            .clamp(1.0, 1.0e7) as usize;
-        let mut end = *start;
-        for k in 1..=n {
-            end = advance_pose(start, twist, h * k as f64 / n as f64);
-            end.validate()?;
-            self.cut_at(&end);
-        }
-        self.cache.set(None);
-        let o1 = self.evaluate(&end, twist)?;
-        self.state.cutting_energy += 0.5 * (o0.work_on_rock(twist, h) + o1.work_on_rock(twist, h));
-        self.state.last_cut = Some(end);
-        Ok(end)
+        let n = self.sub_steps(travel, "the step", h)?;
+        let along = |k: usize| advance_pose(start, twist, h * k as f64 / n as f64);
+        // the whole path is checked before anything changes
+        self.check_visits((1..=n).map(along), "the step", h)?;
+        self.transaction(|m| {
+            if m.state.last_cut.is_none() {
+                m.cut_at(start);
+                m.state.last_cut = Some(*start);
+            }
+            let o0 = m.evaluate(start, twist)?;
+            if m.params.chipping.enabled {
+                // a path that does not continue the last one starts here: chip
+                // boundaries count on from this pose, not from the first sub-step
+                let low = m.disc(start).lowest_point();
+                let max_step = m.chip_max_step();
+                let c = &mut m.state.chips;
+                if c.last_low
+                    .is_none_or(|p| (low.x - p[0]).hypot(low.y - p[1]) > max_step)
+                {
+                    c.last_low = Some(low.into());
+                }
+            }
+            let mut end = *start;
+            for k in 1..=n {
+                end = along(k);
+                m.cut_at(&end);
+            }
+            m.cache.set(None);
+            let o1 = m.evaluate(&end, twist)?;
+            m.state.cutting_energy += 0.5 * (o0.work_on_rock(twist, h) + o1.work_on_rock(twist, h));
+            m.state.last_cut = Some(end);
+            Ok(end)
+        })
     }
 
     /// A copy of the discrete state.

@@ -396,7 +396,8 @@ fn resolve_input_path(s: &str, resources: Option<&Path>, files: Files) -> Res<St
     }
     let mut why = String::new();
     for c in &candidates {
-        match std::fs::File::open(c).and_then(|f| f.metadata()) {
+        // the type first, without opening: opening a FIFO blocks
+        match std::fs::metadata(c) {
             Ok(m) if m.is_file() => return Ok(c.to_string_lossy().into_owned()),
             Ok(_) => why = format!("{} is not a regular file", c.display()),
             Err(e) => {
@@ -664,7 +665,6 @@ impl Instance {
 
     pub fn terminate(&mut self) -> Res<Status> {
         self.check("fmi2Terminate", mask::TERMINATE)?;
-        self.mode = Terminated;
         let path = self
             .model_params
             .as_ref()
@@ -677,6 +677,8 @@ impl Instance {
                 self.log_event(|| format!("rock surface written to {path}"));
             }
         }
+        // after the file: a refused write leaves the instance as it was
+        self.mode = Terminated;
         Ok(Status::Ok)
     }
 
@@ -792,16 +794,15 @@ impl Instance {
 
     /// The strings stay owned by the instance (valid until they are set again
     /// or the instance is reset or freed, as FMI 2.0 allows).
-    pub fn get_string(&mut self, vrs: &[u32]) -> Res<Vec<*const std::ffi::c_char>> {
+    pub fn get_string(&mut self, vrs: &[u32], out: &mut [*const std::ffi::c_char]) -> Res<Status> {
         self.check("fmi2GetString", mask::GET)?;
-        vrs.iter()
-            .map(|&r| {
-                let i = md::position(md::STRINGS, r, |v| v.vr).ok_or_else(|| {
-                    format!("fmi2GetString: {r} is not the value reference of a String")
-                })?;
-                Ok(self.values.string[i].as_ptr())
-            })
-            .collect()
+        for (o, &r) in out.iter_mut().zip(vrs) {
+            let i = md::position(md::STRINGS, r, |v| v.vr).ok_or_else(|| {
+                format!("fmi2GetString: {r} is not the value reference of a String")
+            })?;
+            *o = self.values.string[i].as_ptr();
+        }
+        Ok(Status::Ok)
     }
 
     /// May a variable of this causality be set now?
@@ -832,14 +833,16 @@ impl Instance {
         }
     }
 
-    /// All-or-nothing: checks every value first.
+    /// All-or-nothing: checks every value first, then sets them (two passes
+    /// over the host's arrays: nothing is allocated from `nvr`).
     pub fn set_real(&mut self, vrs: &[u32], vals: &[f64]) -> Res<Status> {
         self.check("fmi2SetReal", mask::SET_REAL)?;
-        let mut idx = Vec::with_capacity(vrs.len());
+        let find = |r: u32| {
+            md::position(md::REALS, r, |v| v.vr)
+                .ok_or_else(|| format!("fmi2SetReal: {r} is not the value reference of a Real"))
+        };
         for (&r, &v) in vrs.iter().zip(vals) {
-            let i = md::position(md::REALS, r, |v| v.vr)
-                .ok_or_else(|| format!("fmi2SetReal: {r} is not the value reference of a Real"))?;
-            let var = &md::REALS[i];
+            let var = &md::REALS[find(r)?];
             self.settable("fmi2SetReal", var.name, var.causality, true)?;
             if !v.is_finite() {
                 return Err(format!(
@@ -847,9 +850,9 @@ impl Instance {
                     var.name
                 ));
             }
-            idx.push(i);
         }
-        for (&i, &v) in idx.iter().zip(vals) {
+        for (&r, &v) in vrs.iter().zip(vals) {
+            let i = find(r)?;
             let var = &md::REALS[i];
             self.values.real[i] = v;
             if var.causality == Causality::Input {
@@ -867,14 +870,15 @@ impl Instance {
 
     pub fn set_integer(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status> {
         self.check("fmi2SetInteger", mask::SET_OTHER)?;
-        let mut idx = Vec::with_capacity(vrs.len());
-        for (&r, &v) in vrs.iter().zip(vals) {
-            let i = md::position(md::INTEGERS, r, |v| v.vr).ok_or_else(|| {
+        let find = |r: u32| {
+            md::position(md::INTEGERS, r, |v| v.vr).ok_or_else(|| {
                 format!(
                     "fmi2SetInteger: {r} is not the value reference of an Integer or Enumeration"
                 )
-            })?;
-            let var = &md::INTEGERS[i];
+            })
+        };
+        for (&r, &v) in vrs.iter().zip(vals) {
+            let var = &md::INTEGERS[find(r)?];
             self.settable("fmi2SetInteger", var.name, var.causality, false)?;
             if let Some(items) = var.items {
                 if !items.contains(&v) {
@@ -884,50 +888,61 @@ impl Instance {
                     ));
                 }
             }
-            idx.push(i);
         }
-        for (&i, &v) in idx.iter().zip(vals) {
+        for (&r, &v) in vrs.iter().zip(vals) {
+            let i = find(r)?;
             self.values.int[i] = v;
         }
         Ok(Status::Ok)
     }
 
-    pub fn set_boolean(&mut self, vrs: &[u32], vals: &[bool]) -> Res<Status> {
+    /// `vals`: fmi2Boolean values (0 is false).
+    pub fn set_boolean(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status> {
         self.check("fmi2SetBoolean", mask::SET_OTHER)?;
-        let mut idx = Vec::with_capacity(vrs.len());
-        for &r in vrs {
-            let i = md::position(md::BOOLEANS, r, |v| v.vr).ok_or_else(|| {
+        let find = |r: u32| {
+            md::position(md::BOOLEANS, r, |v| v.vr).ok_or_else(|| {
                 format!("fmi2SetBoolean: {r} is not the value reference of a Boolean")
-            })?;
-            let var = &md::BOOLEANS[i];
+            })
+        };
+        for &r in vrs {
+            let var = &md::BOOLEANS[find(r)?];
             self.settable("fmi2SetBoolean", var.name, var.causality, false)?;
-            idx.push(i);
         }
-        for (&i, &v) in idx.iter().zip(vals) {
-            self.values.boolean[i] = v;
+        for (&r, &v) in vrs.iter().zip(vals) {
+            let i = find(r)?;
+            self.values.boolean[i] = v != 0;
         }
         Ok(Status::Ok)
     }
 
-    pub fn set_string(&mut self, vrs: &[u32], vals: Vec<CString>) -> Res<Status> {
+    /// `val(k)`: the k-th value (`None`: the host passed NULL).
+    pub fn set_string<'a>(
+        &mut self,
+        vrs: &[u32],
+        val: impl Fn(usize) -> Option<&'a std::ffi::CStr>,
+    ) -> Res<Status> {
         self.check("fmi2SetString", mask::SET_OTHER)?;
-        let mut idx = Vec::with_capacity(vrs.len());
-        for (&r, v) in vrs.iter().zip(&vals) {
-            let i = md::position(md::STRINGS, r, |v| v.vr).ok_or_else(|| {
-                format!("fmi2SetString: {r} is not the value reference of a String")
-            })?;
-            let var = &md::STRINGS[i];
+        let find = |r: u32| {
+            md::position(md::STRINGS, r, |v| v.vr)
+                .ok_or_else(|| format!("fmi2SetString: {r} is not the value reference of a String"))
+        };
+        for (k, &r) in vrs.iter().enumerate() {
+            let var = &md::STRINGS[find(r)?];
             self.settable("fmi2SetString", var.name, var.causality, false)?;
+            let v = val(k)
+                .ok_or_else(|| format!("fmi2SetString: the value of {} is NULL", var.name))?;
             if v.to_str().is_err() {
                 return Err(format!(
                     "fmi2SetString: the value of {} is not UTF-8",
                     var.name
                 ));
             }
-            idx.push(i);
         }
-        for (i, v) in idx.into_iter().zip(vals) {
-            self.values.string[i] = v;
+        for (k, &r) in vrs.iter().enumerate() {
+            let i = find(r)?;
+            if let Some(v) = val(k) {
+                self.values.string[i] = v.to_owned();
+            }
         }
         Ok(Status::Ok)
     }
@@ -991,10 +1006,8 @@ impl Instance {
                 }
                 Ok(())
             }
-            Err(e) => {
-                self.mode = Error;
-                Err(format!("{func}: committing the cut failed: {e}"))
-            }
+            // the commit is all or nothing: the instance is as it was
+            Err(e) => Err(format!("{func}: committing the cut failed: {e}")),
         }
     }
 
@@ -1150,10 +1163,9 @@ impl Instance {
                 self.log_event(|| format!("fmi2DoStep: t = {t}, h = {h} done"));
                 Ok(Status::Ok)
             }
-            Err(e) => {
-                self.mode = Error;
-                Err(format!("fmi2DoStep(t = {t}, h = {h}) failed: {e}"))
-            }
+            // the step is all or nothing: the instance is as it was, and a
+            // shorter step may follow
+            Err(e) => Err(format!("fmi2DoStep(t = {t}, h = {h}) failed: {e}")),
         }
     }
 
@@ -1204,17 +1216,12 @@ impl Instance {
                 let mut model = if reuse {
                     self.model.take().unwrap()
                 } else {
-                    match Model::new(params.clone()) {
-                        Ok(m) => m,
-                        // The state holds the whole surface: if the initial
-                        // surface file is gone, start from the flat face.
-                        Err(e) if !params.rock.initial_surface.is_empty() => {
-                            let mut flat = params.clone();
-                            flat.rock.initial_surface.clear();
-                            Model::new(flat).map_err(|_| format!("fmi2SetFMUstate: {e}"))?
-                        }
-                        Err(e) => return Err(format!("fmi2SetFMUstate: {e}")),
-                    }
+                    // The state holds the whole surface: the initial surface
+                    // file is not read (it may be gone, or, in a forged
+                    // state, name something that never ends).
+                    let mut flat = params.clone();
+                    flat.rock.initial_surface.clear();
+                    Model::new(flat).map_err(|e| format!("fmi2SetFMUstate: {e}"))?
                 };
                 if let Err(e) = model.set_state(ms) {
                     if reuse {

@@ -158,3 +158,17 @@ def test_calibration_refuses_a_table_without_observations(fmu):
         cal.Problem(fmu, [{"S_mm": 51, "p_mm": 3.8, "Fn_kN": math.nan}], ["C"])
     with pytest.raises(KeyError, match="no variable"):
         cal.Problem(fmu, [{"S_mm": 51, "p_mm": 3.8, "Fn_kN": 80}], ["csm.nonsense"])
+
+
+def test_kappa_is_profiled_and_bounded_by_the_ridges_it_breaks(fmu):
+    # a row made with kappa = 15 at S/p = 13.4: the ridge (S - T = 38 mm) broke.
+    # kappa = 6 (6 p = 23 mm) leaves it standing: no side force, a worse fit.
+    row = synthetic_table(fmu, {"chipping.kappa": 15.0}, rows=((51, 3.8),))[0]
+    rep = cal.calibrate(fmu, [row], ["C", "kappa"], block=FAST, observables=["Fn_kN", "Fs_kN"],
+                        kappa_grid=(6, 15, 25), log=lambda *a: None)
+    prof = {d["kappa"]: d for d in rep["kappa_profile"]}
+    assert prof[6.0]["ridges_broke"] == [False] and prof[15.0]["ridges_broke"] == [True]
+    assert prof[6.0]["cost"] > prof[15.0]["cost"] + 0.5
+    assert rep["values"]["kappa"] == 15.0 and rep["values"]["C"] == pytest.approx(2.12, rel=1e-3)
+    assert rep["kappa"]["same_ridges"][0] == 15.0 and rep["kappa"]["interval_68"][0] > 6.0
+    assert any("kappa" in n for n in rep["notes"])

@@ -20,10 +20,12 @@ The singular values of J say which parameter combinations the data fix;
 parameters with no effect on any observation are named and left out.
 
 chipping.kappa (`--fit kappa`) is not fitted by gradient: a ridge breaks or
-stands (the forces jump at S - T = kappa p), and away from that kappa has no
-effect. It is profiled instead: the other parameters are fitted for every
-kappa of --kappa-grid, and the report gives the kappa range whose cost is
-within 0.5 of the best (a 68 % profile interval, in sigma units).
+stands (the forces jump at S - T = kappa p), and away from that kappa moves
+only where single chips break. It is profiled instead: the other parameters
+are fitted for every kappa of --kappa-grid, and the report gives the kappa
+range whose cost is within 0.5 of the best (a 68 % profile interval, in sigma
+units) and, the honest one, the range that breaks the same rows' ridges as
+the best kappa.
 
 Writes --out/calibration.json and calibration_residuals.csv.
 Usage: scripts/calibrate [TABLE] [--fit C,psi] [--set csm.variant=2] [--sigma 0.1]
@@ -214,15 +216,21 @@ def calibrate(fmu, table, fit=("C", "psi"), base=None, block=None, observables=O
     if profile_kappa:
         prof = []
         for k in kappa_grid:
-            th, cost, J, dropped = fit_continuous(prob, theta0, {"chipping.kappa": float(k)})
-            prof.append({"kappa": float(k), "cost": cost, **dict(zip(cont, th.tolist()))})
+            ex = {"chipping.kappa": float(k)}
+            th, cost, J, dropped = fit_continuous(prob, theta0, ex)
+            # which rows' ridges broke: the discrete outcome kappa decides
+            broke = [bool(r["chip_cm3_per_m"] > 0) for r in prob.predict(th, ex)]
+            prof.append({"kappa": float(k), "cost": cost, "ridges_broke": broke,
+                         **dict(zip(cont, th.tolist()))})
             log(f"  kappa = {k:6.2f}: cost {cost:10.4g}  " + "  ".join(
-                f"{p} = {v:.4g}" for p, v in zip(cont, th)))
+                f"{p} = {v:.4g}" for p, v in zip(cont, th)) + f"  ridges broke: {broke}")
         best = min(prof, key=lambda d: d["cost"])
         inside = [d["kappa"] for d in prof if d["cost"] <= best["cost"] + 0.5]
+        same = [d["kappa"] for d in prof if d["ridges_broke"] == best["ridges_broke"]]
         report["kappa_profile"] = prof
         report["kappa"] = {"best": best["kappa"], "interval_68": [min(inside), max(inside)],
-                           "at_grid_edge": min(inside) == min(kappa_grid) or max(inside) == max(kappa_grid)}
+                           "same_ridges": [min(same), max(same)],
+                           "at_grid_edge": min(same) == min(kappa_grid) or max(same) == max(kappa_grid)}
         extra = {"chipping.kappa": best["kappa"]}
         theta0 = [best[p] for p in cont]
     else:
@@ -266,12 +274,13 @@ def identifiability_notes(report, cont, dropped, prob):
                      "and the errors come from sigma alone (no residual to check the model with)")
     for w in c.get("weak_directions", []):
         notes.append(f"the data hardly fix the combination {w}")
-    if "kappa" in report and report["kappa"]["interval_68"][0] != report["kappa"]["interval_68"][1]:
-        lo, hi = report["kappa"]["interval_68"]
-        notes.append(f"kappa is fixed only to [{lo:g}, {hi:g}] by these rows"
-                     + (" (the edge of the grid: the interval is open there)"
+    if "kappa" in report:
+        lo, hi = report["kappa"]["same_ridges"]
+        notes.append(f"every kappa of the grid in [{lo:g}, {hi:g}] breaks the same ridges as the best one"
+                     + (" (the edge of the grid: the range is open there)"
                         if report["kappa"]["at_grid_edge"] else "")
-                     + "; an SE-against-S/p series (the optimum) is what pins it")
+                     + "; cost differences among them come from where single chips break, so these rows "
+                     "fix kappa only to that range - an SE-against-S/p series (the optimum) is what pins it")
     return notes
 
 
@@ -284,7 +293,8 @@ def print_report(rep, log=print):
         extra = "" if se is None else f"  +- {se:.3g}"
         extra += "" if sc is None else f"  [+- {sc:.3g}]"
         if p == "kappa":
-            extra = f"  68 % profile interval {rep['kappa']['interval_68']}"
+            extra = (f"  68 % profile interval {rep['kappa']['interval_68']}, same ridges broken "
+                     f"for {rep['kappa']['same_ridges']}")
         log(f"  {p:8s} = {v:10.4g}{extra}")
     if "correlation" in c and len(c["correlation"]) > 1:
         log("correlation: " + json.dumps([[round(x, 3) for x in r] for r in c["correlation"]]))

@@ -21,6 +21,9 @@ pub enum KerfError {
     },
     /// A serialized state blob is corrupt, foreign or from another grid.
     BadState(String),
+    /// A head layout or one of its discs is invalid (the whole message:
+    /// file, cutter and key).
+    Layout(String),
 }
 
 impl fmt::Display for KerfError {
@@ -41,6 +44,7 @@ impl fmt::Display for KerfError {
                 write!(f, "surface file {file}, line {line}: {what}")
             }
             KerfError::BadState(why) => write!(f, "FMU state rejected: {why}"),
+            KerfError::Layout(msg) => write!(f, "{msg}"),
         }
     }
 }

@@ -16,7 +16,14 @@ pub mod pose;
 
 mod model;
 
+pub mod disc;
+pub mod face;
+pub mod head;
+pub mod layout;
+
+pub use disc::{Disc, DiscState};
 pub use error::{KerfError, Result};
+pub use face::Face;
 pub use model::{friction_coefficient, friction_force, Model, ModelState, Outputs};
 pub use params::{CsmVariant, DirectionRule, Params};
 pub use pose::{Pose, Twist};

@@ -22,9 +22,11 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 def build_head_fmu(layout, drive="head", out=None):
-    """Packages `layout` (path) into an FMU; returns its path."""
-    cmd = ["cargo", "run", "--release", "-q", "-p", "packaging", "--", "--layout", str(layout),
-           "--drive", drive]
+    """Packages `layout` (path) into an FMU; returns its path. Uses the
+    packaging binary scripts/test (or scripts/head) built, else cargo run."""
+    exe = Path(os.environ.get("KERF_PACKAGING", ROOT / "target" / "release" / "packaging"))
+    run = [str(exe)] if exe.is_file() else ["cargo", "run", "--release", "-q", "-p", "packaging", "--"]
+    cmd = run + ["--layout", str(layout), "--drive", drive]
     if out:
         cmd += ["--out", str(out)]
     r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)

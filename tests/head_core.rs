@@ -383,3 +383,56 @@ fn state_replay_is_bit_identical() {
     assert!(kerf::core::head::HeadState::from_bytes(&blob, head.params(), 3).is_err());
     let _ = Drive::Head;
 }
+
+#[test]
+fn steady_start_meets_each_disc_at_its_depth_per_revolution() {
+    let p_rev = 0.006;
+    let mut specs = vec![
+        disc(0.12, 0.0, 0.0),
+        disc(0.25, 100.0, 0.0),
+        disc(0.25, 280.0, 0.0),
+        disc(0.40, 200.0, 0.0),
+    ];
+    specs[3].mount.setback = 0.001;
+    let mut head = Head::new(params(0.75), specs).unwrap();
+    assert!(head.steady_start(-0.001).is_err());
+    head.steady_start(p_rev).unwrap();
+    let w = 1.0;
+    let twist = Twist::new(
+        [0.0, 0.0, -p_rev * w / (2.0 * std::f64::consts::PI)],
+        [0.0, 0.0, w],
+    );
+    let rest = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    let o = head.evaluate_head(&rest, &twist).unwrap();
+    // one disc on its track meets p; two share it, p / 2 each (tips on a flat
+    // groove bottom; the setback does not change what a disc meets)
+    let want = [p_rev, 0.5 * p_rev, 0.5 * p_rev, p_rev];
+    for (d, w) in o.discs.iter().zip(want) {
+        assert!(
+            (d.penetration - w).abs() < 0.1 * w,
+            "{} vs {w}",
+            d.penetration
+        );
+    }
+    // the face just behind each disc is at its tip, just ahead p (or p/2) higher
+    let z = |r: f64, a: f64| head.map().height(r * a.cos(), r * a.sin());
+    let a = 100f64.to_radians();
+    assert!((z(0.25, a - 0.01) - 0.0).abs() < 1e-4);
+    assert!((z(0.25, a + 0.01) - 0.5 * p_rev).abs() < 1e-4);
+    assert!((z(0.40, 200f64.to_radians() - 0.01) - 0.001).abs() < 1e-4);
+    // boring on from the steady start keeps the loads steady
+    let mut pose = rest;
+    let n = 60;
+    let mut first = 0.0;
+    for k in 0..n {
+        pose = head.advance_head(&pose, &twist, 0.01).unwrap();
+        let f = head.evaluate_head(&pose, &twist).unwrap().discs[0].normal_force;
+        if k == 0 {
+            first = f;
+        }
+        if k == n - 1 {
+            assert!((f - first).abs() < 0.1 * first, "{first} -> {f}");
+        }
+    }
+    assert!(first > 1e4);
+}

@@ -25,6 +25,8 @@ def main():
     ap.add_argument("--p-rev", type=float, default=0.006, help="advance per revolution [m]")
     ap.add_argument("--revs", type=float, default=2.5, help="revolutions from flat rock")
     ap.add_argument("--h", type=float, default=None, help="communication step [s] (default: 1/720 rev)")
+    ap.add_argument("--steady", action="store_true",
+                    help="start from the steady face (head.steadyPenetration = p-rev, docs/head.md) instead of flat rock")
     ap.add_argument("--out", default="out")
     ap.add_argument("--ucs", type=float, default=158e6)
     ap.add_argument("--bts", type=float, default=6.78e6)
@@ -48,8 +50,11 @@ def main():
     nodes = int(fmu.vars["rock.nx"].start) * int(fmu.vars["rock.ny"].start)
     write_face = nodes <= 25_000_000
     print(f"head {lay['name']}: {n} discs, bore {bore_d:.2f} m, {rpm:g} rpm, {a.p_rev * 1000:g} mm/rev, "
-          f"{a.revs:g} revolutions in steps of {h * 1000:.2f} ms ({int(round(t_end / h))} steps)")
+          f"{a.revs:g} revolutions from {'the steady face' if a.steady else 'flat rock'} in steps of "
+          f"{h * 1000:.2f} ms ({int(round(t_end / h))} steps)")
     starts = {"rock.ucs": a.ucs, "rock.bts": a.bts, "csm.C": a.C}
+    if a.steady:
+        starts["head.steadyPenetration"] = a.p_rev
     if write_face:
         starts["rock.finalSurface"] = str(surf)
     f = fmu.instance("CS", start_values=starts)
@@ -99,7 +104,7 @@ def main():
                          mean_fr=float(rf.mean()), mean_p=float(pp.mean())))
         print(f"  {i + 1:4d}  {tracks[i]:8.3f}  {lay['cutters'][i]['tiltDeg']:4g}  {nf.mean() / 1e3:12.1f}  "
               f"{nf.max() / 1e3:12.1f}  {fn[i] / 1e3:11.1f}  {rf.mean() / 1e3:12.2f}  {pp.mean() * 1e3:10.2f}")
-    summary = dict(layout=lay["name"], discs=n, bore_diameter=bore_d, rpm=rpm, p_rev=a.p_rev, revs=a.revs,
+    summary = dict(layout=lay["name"], steady_start=a.steady, discs=n, bore_diameter=bore_d, rpm=rpm, p_rev=a.p_rev, revs=a.revs,
                    step=h, wall_s=wall, thrust=thrust, torque=torque, csm_sum_fn=sum_fn,
                    csm_sum_fr_r=sum_frr, csm_shortcut=shortcut, imbalance_mean=float(fxy.mean()),
                    imbalance_peak=float(fxy.max()), overturning_mean=float(mxy.mean()),
@@ -122,7 +127,8 @@ def main():
     ax[1].set_ylabel("torque [kN.m]")
     ax[1].set_xlabel("time [s]")
     ax[1].legend(loc="lower right")
-    fig.suptitle(f"{lay['name']}: {n} discs, {rpm:g} rpm, {a.p_rev * 1000:g} mm/rev from flat rock")
+    fig.suptitle(f"{lay['name']}: {n} discs, {rpm:g} rpm, {a.p_rev * 1000:g} mm/rev from "
+                 f"{'the steady face' if a.steady else 'flat rock'}")
     fig.tight_layout()
     fig.savefig(out_dir / "head_thrust_torque.png", dpi=120)
 

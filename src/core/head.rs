@@ -504,6 +504,79 @@ impl Head {
         Ok(())
     }
 
+    /// Steady start: pre-cuts the face as if the head (at rest pose, all
+    /// inputs zero) had been boring at `p_rev` per revolution with `wz > 0`
+    /// for ever, so a run measures steady loads from its first step.
+    ///
+    /// Assumptions: every node within the bore (radius up to the outermost
+    /// tip track + T/2) belongs to the nearest track; the ridges between
+    /// tracks are fully relieved (broken out down to the groove bottoms, as
+    /// chipping does at a good spacing), so the whole annulus of a track lies
+    /// on its groove bottom; that bottom is where the disc of the track that
+    /// passed last left it: a disc at angle `a` passed angle `phi` a turn
+    /// fraction `((a - phi) mod 2 pi) / 2 pi` ago, when the head stood that
+    /// fraction of `p_rev` higher, so the height is `setback + p_rev *
+    /// fraction` (lowest over the discs on the track, tracks equal within
+    /// 1 mm). Each disc then meets rock `p_rev / k` deep (k discs on its
+    /// track). The tip's profile across the groove is ignored (flat bottom).
+    /// Rock ahead of a disc stands above `rock.z0` by up to `p_rev`.
+    pub fn steady_start(&mut self, p_rev: f64) -> Result<()> {
+        if !(p_rev.is_finite() && (0.0..=0.05).contains(&p_rev)) {
+            return Err(KerfError::BadParameter {
+                name: "head.steadyPenetration",
+                value: p_rev,
+                why: "must lie in [0, 0.05] m",
+            });
+        }
+        if p_rev == 0.0 {
+            return Ok(());
+        }
+        let mut tracks: Vec<(f64, Vec<(f64, f64)>)> = Vec::new();
+        for s in &self.specs {
+            let m = &s.mount;
+            match tracks.iter_mut().find(|(t, _)| (t - m.track).abs() < 1e-3) {
+                Some((_, d)) => d.push((m.angle, m.setback)),
+                None => tracks.push((m.track, vec![(m.angle, m.setback)])),
+            }
+        }
+        tracks.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let edge = self
+            .specs
+            .iter()
+            .map(|s| s.mount.track + 0.5 * s.cutter.tip_width)
+            .fold(0.0, f64::max);
+        let map = &mut self.state.face.map;
+        let g = *map.grid();
+        let Some((i0, i1, j0, j1)) = g.node_range(-edge, edge, -edge, edge) else {
+            return Ok(());
+        };
+        let two_pi = std::f64::consts::TAU;
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let (x, y) = g.node_xy(i, j);
+                let rho = x.hypot(y);
+                if rho > edge {
+                    continue;
+                }
+                let phi = y.atan2(x);
+                let k = tracks.partition_point(|(t, _)| *t < rho);
+                let near = match (k.checked_sub(1), tracks.get(k)) {
+                    (Some(a), Some(b)) if rho - tracks[a].0 <= b.0 - rho => a,
+                    (Some(a), _) => a,
+                    (None, _) => 0,
+                };
+                let z = tracks[near]
+                    .1
+                    .iter()
+                    .map(|&(a, setback)| setback + p_rev * (a - phi).rem_euclid(two_pi) / two_pi)
+                    .fold(f64::INFINITY, f64::min);
+                map.set_node(i, j, map.base_height() + z);
+            }
+        }
+        self.discs.iter().for_each(Disc::forget);
+        Ok(())
+    }
+
     /// Replaces the face (rock and bookkeeping), e.g. by one bored before;
     /// it must stand on the same grid.
     pub fn set_face(&mut self, face: Face) -> Result<()> {

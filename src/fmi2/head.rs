@@ -32,6 +32,8 @@ const TIME_TOLERANCE: f64 = 1e-9;
 pub struct HeadValues {
     pub kerf: Values,
     pub head_in: [f64; 12],
+    /// Head-only parameters (`head_md::HEAD_PARAMS`).
+    pub head_par: [f64; 1],
     pub disc_par: Vec<[f64; 8]>,
     pub disc_in: Vec<[f64; 12]>,
 }
@@ -101,7 +103,7 @@ pub struct HeadInstance {
     start_time: f64,
     time: f64,
     head: Option<Head>,
-    head_key: Option<(Params, Vec<DiscSpec>)>,
+    head_key: Option<(Params, Vec<DiscSpec>, [f64; 1])>,
     cs_head: Pose,
     cs_discs: Vec<Pose>,
     /// Co-Simulation: pose inputs set since the last step (head drive: one
@@ -143,6 +145,7 @@ impl HeadInstance {
         let mut values = HeadValues {
             kerf: Values::start(),
             head_in: [0.0; 12],
+            head_par: [0.0; 1],
             disc_par: vec![[0.0; 8]; n],
             disc_in: vec![[0.0; 12]; n],
         };
@@ -161,6 +164,7 @@ impl HeadInstance {
                     _ => {}
                 },
                 Slot::HeadInput(k) => values.head_in[k] = s.parse().unwrap_or(0.0),
+                Slot::HeadParam(k) => values.head_par[k] = s.parse().unwrap_or(0.0),
                 Slot::DiscParam(i, k) => values.disc_par[i][k] = s.parse().unwrap_or(0.0),
                 Slot::DiscInput(i, k) => values.disc_in[i][k] = s.parse().unwrap_or(0.0),
                 _ => {}
@@ -322,9 +326,9 @@ impl HeadInstance {
         Ok(Status::Ok)
     }
 
-    fn params(&self, files: Files) -> Res<(Params, Vec<DiscSpec>)> {
+    fn params(&self, files: Files) -> Res<(Params, Vec<DiscSpec>, [f64; 1])> {
         let params = self.values.kerf.params(self.resources.as_deref(), files)?;
-        Ok((params, self.values.specs()))
+        Ok((params, self.values.specs(), self.values.head_par))
     }
 
     fn ensure_head(&mut self) -> Res<Status> {
@@ -332,7 +336,8 @@ impl HeadInstance {
         if self.head.is_some() && self.head_key.as_ref() == Some(&key) {
             return Ok(Status::Ok);
         }
-        let head = Head::new(key.0.clone(), key.1.clone()).map_err(|e| e.to_string())?;
+        let mut head = Head::new(key.0.clone(), key.1.clone()).map_err(|e| e.to_string())?;
+        head.steady_start(key.2[0]).map_err(|e| e.to_string())?;
         self.head = Some(head);
         self.head_key = Some(key);
         self.cache = None;
@@ -362,7 +367,7 @@ impl HeadInstance {
         let path = self
             .head_key
             .as_ref()
-            .map(|(p, _)| p.rock.final_surface.clone())
+            .map(|(p, _, _)| p.rock.final_surface.clone())
             .unwrap_or_default();
         if !path.is_empty() {
             if let Some(h) = &self.head {
@@ -465,6 +470,7 @@ impl HeadInstance {
             out[k] = match slot {
                 Slot::Kerf => self.values.kerf.real[md::position(md::REALS, r, |x| x.vr).unwrap()],
                 Slot::HeadInput(j) => self.values.head_in[j],
+                Slot::HeadParam(j) => self.values.head_par[j],
                 Slot::DiscParam(i, j) => self.values.disc_par[i][j],
                 Slot::DiscInput(i, j) => self.values.disc_in[i][j],
                 Slot::Total(j) => {
@@ -609,6 +615,7 @@ impl HeadInstance {
                     }
                 }
                 Slot::DiscParam(i, j) => self.values.disc_par[i][j] = x,
+                Slot::HeadParam(j) => self.values.head_par[j] = x,
                 Slot::DiscInput(i, j) => {
                     self.values.disc_in[i][j] = x;
                     self.cache = None;
@@ -869,7 +876,7 @@ impl HeadInstance {
                     .kerf
                     .params(self.resources.as_deref(), Files::MayBeMissing)
                     .map_err(|e| format!("fmi2SetFMUstate: {e}"))?;
-                let key = (params, s.values.specs());
+                let key = (params, s.values.specs(), s.values.head_par);
                 let reuse = self.head.is_some() && self.head_key.as_ref() == Some(&key);
                 let mut head = if reuse {
                     self.head.take().unwrap()
@@ -933,7 +940,10 @@ impl HeadInstance {
             put_u(&mut p, x.as_bytes().len() as u64);
             p.extend_from_slice(x.as_bytes());
         }
-        v.head_in.iter().for_each(|&x| put_f(&mut p, x));
+        v.head_in
+            .iter()
+            .chain(&v.head_par)
+            .for_each(|&x| put_f(&mut p, x));
         put_u(&mut p, v.disc_par.len() as u64);
         for (a, b) in v.disc_par.iter().zip(&v.disc_in) {
             a.iter().chain(b.iter()).for_each(|&x| put_f(&mut p, x));
@@ -1032,7 +1042,7 @@ impl HeadInstance {
             let n = r.u()? as usize;
             *x = CString::new(r.take(n)?.to_vec()).map_err(|_| "a string with NUL")?;
         }
-        for x in values.head_in.iter_mut() {
+        for x in values.head_in.iter_mut().chain(values.head_par.iter_mut()) {
             *x = r.f()?;
         }
         expect(&mut r, values.disc_par.len())?;

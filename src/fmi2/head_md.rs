@@ -37,6 +37,8 @@ pub enum Slot {
     Total(usize),
     /// `chipCount`.
     ChipCount,
+    /// Head parameter `k` of [`HEAD_PARAMS`].
+    HeadParam(usize),
     /// Disc `i` (0-based), parameter `k` of [`DISC_PARAMS`].
     DiscParam(usize, usize),
     /// Disc `i`, input `k` of [`INPUTS`] (disc drive).
@@ -234,6 +236,18 @@ pub const TOTALS: [(&str, u32, &str, Option<&str>, &str); 12] = [
     ("chippedVolume", 115, "m3", Some("cm3"), "the part of excavatedVolume that left as chips (committed only)"),
 ];
 
+/// Head-only parameters: name, value reference, unit, display unit, min,
+/// max, meaning.
+pub const HEAD_PARAMS: [(&str, u32, &str, Option<&str>, f64, f64, &str); 1] = [(
+    "head.steadyPenetration",
+    140,
+    "m",
+    Some("mm"),
+    0.0,
+    0.05,
+    "Steady start: 0 starts from the flat face; p > 0 pre-cuts the face as if the head had bored at p per revolution (wz > 0) for ever, ridges fully relieved, each track's annulus on the helix its last disc left (docs/head.md)",
+)];
+
 /// kerf parameters that are per disc in a head.
 const PER_DISC: [&str; 4] = [
     "cutter.radius",
@@ -352,6 +366,21 @@ pub fn variables(layout: &Layout, drive: Drive) -> Vec<HeadVar> {
         description: Some("chips broken out so far by all discs (committed only)".into()),
         slot: Slot::ChipCount,
     });
+    for (k, (name, vr, unit, du, lo, hi, what)) in HEAD_PARAMS.iter().enumerate() {
+        v.push(real(
+            name.to_string(),
+            *vr,
+            Causality::Parameter,
+            Variability::Fixed,
+            Some("0".into()),
+            unit,
+            *du,
+            Some(*lo),
+            Some(*hi),
+            what.to_string(),
+            Slot::HeadParam(k),
+        ));
+    }
     // the shared parameters, in kerf's order
     let rock = rock_starts(layout);
     let mut shared: Vec<(usize, HeadVar)> = Vec::new();

@@ -215,6 +215,27 @@ def test_state_replay_is_bit_identical(head_fmu, kind):
         f.freeInstance()
 
 
+def test_steady_start_meets_every_face_disc_at_p_per_revolution(head_fmu):
+    f = head_fmu.instance("CS", start_values={"head.steadyPenetration": P_REV})
+    try:
+        t, out = head_fmu.bore_cs(f, W, P_REV, 10 * H, H)
+    finally:
+        f.freeInstance()
+    for i, c in enumerate(head_fmu.layout["cutters"], 1):
+        p = out[0, hh.col(head_fmu, f"cutter[{i}].penetration")]
+        if c["tiltDeg"] == 0:
+            assert p == pytest.approx(P_REV, rel=0.1), (i, p)
+        else:
+            assert p > 0.3 * P_REV, (i, p)
+    # a flat start meets nothing deeper than one step's advance
+    g = head_fmu.instance("CS")
+    try:
+        t, flat = head_fmu.bore_cs(g, W, P_REV, H, H)
+    finally:
+        g.freeInstance()
+    assert np.max(flat[0, [hh.col(head_fmu, f"cutter[{i}].penetration") for i in range(1, head_fmu.n + 1)]]) < 0.2 * P_REV
+
+
 def test_bad_layouts_are_refused_naming_file_cutter_and_key(tmp_path):
     layout = json.loads(LAYOUT.read_text())
     layout["cutters"][2]["tiltDeg"] = 91

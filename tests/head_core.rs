@@ -407,13 +407,12 @@ fn steady_start_meets_each_disc_at_its_depth_per_revolution() {
     // one disc on its track meets p; two share it, p / 2 each (tips on a flat
     // groove bottom; the setback does not change what a disc meets)
     let want = [p_rev, 0.5 * p_rev, 0.5 * p_rev, p_rev];
-    for (d, w) in o.discs.iter().zip(want) {
-        assert!(
-            (d.penetration - w).abs() < 0.1 * w,
-            "{} vs {w}",
-            d.penetration
-        );
+    // (within 10 %: the rim meets the ramp of the helix a little short of its step)
+    let pen: Vec<f64> = o.discs.iter().map(|d| d.penetration).collect();
+    for (p, w) in pen.iter().zip(want) {
+        assert!((p - w).abs() < 0.1 * w, "{pen:?} vs {want:?}");
     }
+    assert_eq!(pen[1].to_bits() >> 20, pen[2].to_bits() >> 20, "{pen:?}");
     // the face just behind each disc is at its tip, just ahead p (or p/2) higher
     let z = |r: f64, a: f64| head.map().height(r * a.cos(), r * a.sin());
     let a = 100f64.to_radians();

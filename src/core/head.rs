@@ -561,7 +561,7 @@ impl Head {
                 let phi = y.atan2(x);
                 let k = tracks.partition_point(|(t, _)| *t < rho);
                 let near = match (k.checked_sub(1), tracks.get(k)) {
-                    (Some(a), Some(b)) if rho - tracks[a].0 <= b.0 - rho => a,
+                    (Some(a), Some(b)) if rho - tracks[a].0 > b.0 - rho => k,
                     (Some(a), _) => a,
                     (None, _) => 0,
                 };

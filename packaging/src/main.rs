@@ -104,11 +104,13 @@ fn run() -> Res<PathBuf> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(&cargo)
         .current_dir(&root)
-        .args(["build", "--release", "--lib", "-p", "kerf"])
+        // the same package set as `cargo run -p packaging` (packaging depends on
+        // kerf): one feature resolution, so kerf is not built twice
+        .args(["build", "--release", "-p", "kerf", "-p", "packaging"])
         .status()
         .map_err(|e| format!("cannot run {}: {e}", cargo.to_string_lossy()))?;
     if !status.success() {
-        return Err(format!("cargo build --release --lib failed ({status})"));
+        return Err(format!("cargo build --release -p kerf -p packaging failed ({status})"));
     }
 
     let target = std::env::var_os("CARGO_TARGET_DIR")

@@ -41,7 +41,7 @@ impl Clone for Disc {
     fn clone(&self) -> Self {
         Self {
             cutter: self.cutter,
-            law: self.law.clone(),
+            law: self.law,
             cache: Cell::new(None),
         }
     }
@@ -239,6 +239,9 @@ pub fn evaluate_all(
         .collect()
 }
 
+/// A straight path from a disc's last cut: its pose and both orientations.
+type Path = (Pose, UnitQuaternion<f64>, UnitQuaternion<f64>);
+
 /// Cuts the face at the motions' poses (a Model Exchange event): `dt` is the
 /// time since the previous commit, for the energy bookkeeping. Each disc's
 /// cut follows the path from its previous cut, straight (positions linear,
@@ -262,7 +265,7 @@ pub fn commit_paths(
         face.cutting_energy += o.work_on_rock(twist, dt);
     }
     // per disc: the path from its last cut, if it has one, and its sub-steps
-    let plans: Vec<Option<(Pose, UnitQuaternion<f64>, UnitQuaternion<f64>)>> = states
+    let plans: Vec<Option<Path>> = states
         .iter()
         .zip(motions)
         .zip(discs.iter())

@@ -89,8 +89,18 @@ pub const INPUTS: [(&str, &str, Option<&str>, &str); 12] = [
     ("wz", "rad/s", None, "angular velocity about rock z"),
 ];
 
+/// A parameter's name, unit, display unit, min, max and meaning.
+type ParamRow = (
+    &'static str,
+    &'static str,
+    Option<&'static str>,
+    f64,
+    f64,
+    &'static str,
+);
+
 /// Per-disc parameters: name, unit, display unit, min, max, meaning.
-pub const DISC_PARAMS: [(&str, &str, Option<&str>, f64, f64, &str); 8] = [
+pub const DISC_PARAMS: [ParamRow; 8] = [
     (
         "track",
         "m",
@@ -236,16 +246,17 @@ pub const TOTALS: [(&str, u32, &str, Option<&str>, &str); 12] = [
     ("chippedVolume", 115, "m3", Some("cm3"), "the part of excavatedVolume that left as chips (committed only)"),
 ];
 
-/// Head-only parameters: name, value reference, unit, display unit, min,
-/// max, meaning.
-pub const HEAD_PARAMS: [(&str, u32, &str, Option<&str>, f64, f64, &str); 1] = [(
-    "head.steadyPenetration",
+/// Head-only parameters: value reference and the parameter.
+pub const HEAD_PARAMS: [(u32, ParamRow); 1] = [(
     140,
-    "m",
-    Some("mm"),
-    0.0,
-    0.05,
-    "Steady start: 0 starts from the flat face; p > 0 pre-cuts the face as if the head had bored at p per revolution (wz > 0) for ever, ridges fully relieved, each track's annulus on the helix its last disc left (docs/head.md)",
+    (
+        "head.steadyPenetration",
+        "m",
+        Some("mm"),
+        0.0,
+        0.05,
+        "Steady start: 0 starts from the flat face; p > 0 pre-cuts the face as if the head had bored at p per revolution (wz > 0) for ever, ridges fully relieved, each track's annulus on the helix its last disc left (docs/head.md)",
+    ),
 )];
 
 /// kerf parameters that are per disc in a head.
@@ -366,7 +377,7 @@ pub fn variables(layout: &Layout, drive: Drive) -> Vec<HeadVar> {
         description: Some("chips broken out so far by all discs (committed only)".into()),
         slot: Slot::ChipCount,
     });
-    for (k, (name, vr, unit, du, lo, hi, what)) in HEAD_PARAMS.iter().enumerate() {
+    for (k, (vr, (name, unit, du, lo, hi, what))) in HEAD_PARAMS.iter().enumerate() {
         v.push(real(
             name.to_string(),
             *vr,

@@ -239,6 +239,24 @@ def test_steady_start_meets_every_face_disc_at_p_per_revolution(head_fmu):
     assert np.max(flat[0, [hh.col(head_fmu, f"cutter[{i}].penetration") for i in upright]]) < 0.2 * P_REV
 
 
+def test_steady_boring_carries_the_csm_force_of_p_per_revolution(head_fmu):
+    """From the steady start, a quarter revolution: each upright face disc
+    carries the CSM force of its depth per revolution and its own spacing
+    (within 3 % on the mean; the tilted gauge discs are not CSM's case)."""
+    f = head_fmu.instance("CS", start_values={"head.steadyPenetration": P_REV})
+    try:
+        t, out = head_fmu.bore_cs(f, W, P_REV, 0.25 * 2 * math.pi / W, H)
+    finally:
+        f.freeInstance()
+    d = head_fmu.layout["disc"]
+    for i, c in enumerate(head_fmu.layout["cutters"], 1):
+        if c["tiltDeg"] != 0 or c["track"] < 0.1:
+            continue
+        fn, fr = hh.csm_force(d["radius"], d["tipWidth"], 158e6, 6.78e6, c["spacing"], 2.12, P_REV)
+        got = np.mean(out[:, hh.col(head_fmu, f"cutter[{i}].normalForce")])
+        assert got == pytest.approx(fn, rel=0.03), (i, got, fn)
+
+
 def test_bad_layouts_are_refused_naming_file_cutter_and_key(tmp_path):
     layout = json.loads(LAYOUT.read_text())
     layout["cutters"][2]["tiltDeg"] = 91

@@ -110,7 +110,9 @@ fn run() -> Res<PathBuf> {
         .status()
         .map_err(|e| format!("cannot run {}: {e}", cargo.to_string_lossy()))?;
     if !status.success() {
-        return Err(format!("cargo build --release -p kerf -p packaging failed ({status})"));
+        return Err(format!(
+            "cargo build --release -p kerf -p packaging failed ({status})"
+        ));
     }
 
     let target = std::env::var_os("CARGO_TARGET_DIR")

@@ -605,7 +605,8 @@ impl HeadInstance {
         for (slot, (&r, &x)) in idx.into_iter().zip(vrs.iter().zip(vals)) {
             match slot {
                 Slot::Kerf => {
-                    self.values.kerf.real[md::position(md::REALS, r, |x| x.vr).unwrap()] = x
+                    self.values.kerf.real[md::position(md::REALS, r, |x| x.vr).unwrap()] = x;
+                    self.cache = None;
                 }
                 Slot::HeadInput(j) => {
                     self.values.head_in[j] = x;
@@ -614,8 +615,14 @@ impl HeadInstance {
                         self.pose_set[0] = true;
                     }
                 }
-                Slot::DiscParam(i, j) => self.values.disc_par[i][j] = x,
-                Slot::HeadParam(j) => self.values.head_par[j] = x,
+                Slot::DiscParam(i, j) => {
+                    self.values.disc_par[i][j] = x;
+                    self.cache = None;
+                }
+                Slot::HeadParam(j) => {
+                    self.values.head_par[j] = x;
+                    self.cache = None;
+                }
                 Slot::DiscInput(i, j) => {
                     self.values.disc_in[i][j] = x;
                     self.cache = None;
@@ -649,6 +656,7 @@ impl HeadInstance {
         for (i, &x) in idx.into_iter().zip(vals) {
             self.values.kerf.int[i] = x;
         }
+        self.cache = None;
         Ok(Status::Ok)
     }
 
@@ -663,6 +671,7 @@ impl HeadInstance {
         for (i, &x) in idx.into_iter().zip(vals) {
             self.values.kerf.boolean[i] = x;
         }
+        self.cache = None;
         Ok(Status::Ok)
     }
 
@@ -683,6 +692,7 @@ impl HeadInstance {
         for (i, x) in idx.into_iter().zip(vals) {
             self.values.kerf.string[i] = x;
         }
+        self.cache = None;
         Ok(Status::Ok)
     }
 

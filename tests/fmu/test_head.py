@@ -257,6 +257,29 @@ def test_steady_boring_carries_the_csm_force_of_p_per_revolution(head_fmu):
         assert got == pytest.approx(fn, rel=0.03), (i, got, fn)
 
 
+def test_parameters_set_after_outputs_were_read_in_initialization_take_effect(head_fmu):
+    from fmpy.fmi2 import FMU2Slave
+
+    f = FMU2Slave(guid=head_fmu.md.guid, unzipDirectory=head_fmu.dir, modelIdentifier="kerf",
+                  instanceName="init")
+    f.instantiate()
+    try:
+        f.setupExperiment(startTime=0.0)
+        f.enterInitializationMode()
+        vr_p = head_fmu.vr["cutter[2].penetration"]
+        assert f.getReal([vr_p])[0] < 1e-4  # flat face, discs just touching
+        f.setReal([head_fmu.vr["head.steadyPenetration"]], [P_REV])
+        assert f.getReal([vr_p])[0] == pytest.approx(P_REV, rel=0.1)
+        vr_f = head_fmu.vr["cutter[2].normalForce"]
+        f0 = f.getReal([vr_f])[0]
+        f.setReal([head_fmu.vr["rock.ucs"]], [0.5 * 158e6])  # CSM: F ~ ucs^(2/3)
+        assert f.getReal([vr_f])[0] == pytest.approx(f0 * 0.5 ** (2 / 3), rel=1e-6)
+        f.exitInitializationMode()
+        assert f.getReal([vr_f])[0] == pytest.approx(f0 * 0.5 ** (2 / 3), rel=1e-6)
+    finally:
+        f.freeInstance()
+
+
 def test_bad_layouts_are_refused_naming_file_cutter_and_key(tmp_path):
     layout = json.loads(LAYOUT.read_text())
     layout["cutters"][2]["tiltDeg"] = 91

@@ -74,6 +74,46 @@ const INTERFACE: &[(&str, &str, &str, &str)] = &[
     ("chipCount", "Integer", "output", ""),
 ];
 
+// The parameter bounds of the core (`PARAMETER_BOUNDS` and the rules between
+// parameters), shared with src/core/params.rs so the numbers exist once.
+include!(concat!(env!("CARGO_MANIFEST_DIR"), "/src/core/bounds.rs"));
+
+/// Every row of `PARAMETER_BOUNDS` is mirrored exactly by its variable's
+/// `min` and `max`, and every parameter start value lies inside it.
+fn check_bounds(vars: &[Var]) {
+    let _ = (
+        MIN_CELL,
+        MAX_NODES,
+        MAX_DISC_NODES,
+        MAX_ARC_STEPS,
+        MIN_SWEEP_STEP_CELLS,
+        MAX_SUBSTEPS_PER_CALL,
+        MAX_NODE_VISITS_PER_CALL,
+        MAX_SURFACE_LINES,
+        MAX_SURFACE_LINE_BYTES,
+    );
+    for &(name, lo, hi) in PARAMETER_BOUNDS {
+        let v = vars.iter().find(|v| v.name == name).unwrap_or_else(|| {
+            fail(format!(
+                "src/core/bounds.rs bounds \"{name}\", which is not a variable"
+            ))
+        });
+        let parse = |what: &str, s: Option<&str>| -> Option<f64> {
+            s.map(|s| parse_f64(&format!("{name} {what}"), s))
+        };
+        let (min, max) = (
+            parse("min", v.min.as_deref()),
+            parse("max", v.max.as_deref()),
+        );
+        if min != Some(lo) || max != Some(hi) {
+            fail(format!(
+                "{name}: min/max must mirror src/core/bounds.rs: min=\"{lo:e}\" max=\"{hi:e}\" (found {:?} / {:?})",
+                v.min, v.max
+            ));
+        }
+    }
+}
+
 /// Inputs whose start value interface.md fixes.
 const FIXED_STARTS: &[(&str, f64)] = &[("z", 0.2121)];
 
@@ -208,8 +248,20 @@ pub fn check_and_generate(text: &str) -> String {
         .attribute("guid")
         .filter(|g| !g.trim().is_empty())
         .unwrap_or_else(|| fail("no guid".into()));
-    if md.attribute("numberOfEventIndicators").unwrap_or("0") != "0" {
-        fail("numberOfEventIndicators must be 0: the FMU has no event indicators".into());
+    // One event indicator: numerics.sweepStep minus the rim travel since the
+    // last committed cut (src/fmi2/instance.rs, Instance::event_indicator).
+    let event_indicators = md.attribute("numberOfEventIndicators").unwrap_or("0");
+    if event_indicators != "1" {
+        fail(format!(
+            "numberOfEventIndicators must be 1 (the cut event: sweepStep minus the travel since the last cut), not \"{event_indicators}\""
+        ));
+    }
+    // A tolerance for the hosts' variable-step solvers (PyFMI warns without).
+    let de = child(md, "DefaultExperiment")
+        .unwrap_or_else(|| fail("no <DefaultExperiment> element".into()));
+    match de.attribute("tolerance").map(|t| t.trim().parse::<f64>()) {
+        Some(Ok(t)) if t > 0.0 && t < 1.0 => {}
+        _ => fail("<DefaultExperiment> needs a tolerance in (0, 1)".into()),
     }
 
     // Both interfaces, same identifier, the capability flags of interface.md.
@@ -439,9 +491,10 @@ pub fn check_and_generate(text: &str) -> String {
         }
     }
 
+    check_bounds(&vars);
     check_structure(md, &vars);
 
-    generate(guid, &categories, &vars, &enums)
+    generate(guid, event_indicators, &categories, &vars, &enums)
 }
 
 fn check_variable(
@@ -680,6 +733,7 @@ fn variability_ident(c: &str) -> &'static str {
 
 fn generate(
     guid: &str,
+    event_indicators: &str,
     categories: &[String],
     vars: &[Var],
     enums: &HashMap<String, Vec<(String, i32)>>,
@@ -697,6 +751,12 @@ fn generate(
     )
     .unwrap();
     writeln!(w, "pub const GUID: &str = {};", rust_str(guid)).unwrap();
+    writeln!(w, "/// `numberOfEventIndicators` of modelDescription.xml.").unwrap();
+    writeln!(
+        w,
+        "pub const NUMBER_OF_EVENT_INDICATORS: usize = {event_indicators};"
+    )
+    .unwrap();
     writeln!(w, "/// The log categories of `<LogCategories>`, in order.").unwrap();
     writeln!(
         w,

@@ -41,7 +41,10 @@ fn main() {
         times.push(t.elapsed().as_secs_f64() * 1e6);
     }
     times.sort_by(f64::total_cmp);
-    println!("contact {:?}", m.contact(&pose));
+    println!(
+        "contact {:?}",
+        m.contact(&pose, &Twist::new([0.0; 3], [0.0; 3]))
+    );
     println!(
         "roll {roll} deg: median {:.1} us per 1 mm step; N={:.0} R={:.0} S={:.0}",
         times[150], last.normal_force, last.rolling_force, last.side_force

@@ -2,6 +2,8 @@
 # Installs only what is missing:
 #   * libclang for bindgen (fmi-sys generates the FMI C bindings), via
 #     apt-get install libclang-dev, only if no loadable libclang is found;
+#   * libtbb.so.12 for the Ecos co-simulation host (PyPI ecospy, run by
+#     tests/fmu/test_hosts.py), via apt-get install libtbb12, only if missing;
 #   * .venv from the pinned requirements.txt, reinstalled only when that file
 #     (or the Python version) changes - a hash stamp lives in .venv.
 # Works as root without a tty (CI=true); as non-root it uses sudo for apt-get
@@ -73,15 +75,44 @@ find_libclang() {
 
 have_libclang() { find_libclang >/dev/null; }
 
+# The oneTBB runtime that ecospy's libecosc.so and `ecos` binary link against:
+# libtbb.so.12 (Debian's libtbb12), an ELF file or a link to one, in the
+# dynamic loader's usual directories (KERF_SYSROOT-prefixed, as above).
+lib_dirs() {
+    local root="${KERF_SYSROOT:-}" pat d
+    for pat in '/usr/local/lib*/*' '/usr/local/lib*' '/usr/lib*/*' '/usr/lib*' '/lib*/*' '/lib*'; do
+        for d in $root$pat; do
+            [ -d "$d" ] && printf '%s\n' "$d"
+        done
+    done
+}
+
+find_libtbb() {
+    local d f
+    while IFS= read -r d; do
+        for f in "$d"/libtbb.so.12 "$d"/libtbb.so.12.*; do
+            if is_elf "$f"; then
+                printf '%s\n' "$f"
+                return 0
+            fi
+        done
+    done < <(lib_dirs)
+    return 1
+}
+
+have_libtbb() { find_libtbb >/dev/null; }
+
 ensure_system_deps() {
     command -v cargo >/dev/null || die "cargo not found (install Rust: https://rustup.rs)"
     local pkgs=()
     have_libclang || pkgs+=(libclang-dev)
+    have_libtbb || pkgs+=(libtbb12)
     command -v cc >/dev/null || pkgs+=(gcc libc6-dev)
     if [ ${#pkgs[@]} -gt 0 ]; then
         apt_install "${pkgs[@]}"
     fi
     have_libclang || die "no libclang that bindgen can load (libclang.so*, not libclang-cpp) after installing libclang-dev; set LIBCLANG_PATH"
+    have_libtbb || die "no libtbb.so.12 (for the Ecos host) after installing libtbb12"
 }
 
 find_python() {

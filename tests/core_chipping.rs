@@ -156,11 +156,11 @@ fn another_seed_scatters_the_chips_but_keeps_the_mean() {
         vol(&a),
         vol(&b)
     );
-    // the rolling force rises for a fixed stretch after each chip, so its mean
-    // follows the number of chips in the window (40 +- 1.2 for a uniform
-    // spread of +-50 %): 5 %; the normal force 3 %
+    // the force drops after each chip (less rock ahead) and rises again, so
+    // its mean follows where the chips fall in the window (40 +- 1.2 chips
+    // for a uniform spread of +-50 %): 5 % on both
     let tol: [(fn(&Outputs) -> f64, f64); 2] =
-        [(|o| o.normal_force, 0.03), (|o| o.rolling_force, 0.05)];
+        [(|o| o.normal_force, 0.05), (|o| o.rolling_force, 0.05)];
     for (f, t) in tol {
         let (ma, mb) = (mean(&a, f), mean(&b, f));
         assert!((ma - mb).abs() < t * ma, "{ma} vs {mb}");
@@ -168,9 +168,6 @@ fn another_seed_scatters_the_chips_but_keeps_the_mean() {
 }
 
 #[test]
-#[ignore = "needs the area-based contact law of issue 7: today's law charges the whole tip \
-            width while any slice touches, so a chip that takes half the tip's rock ahead \
-            moves the force by 1 % (CV 0.011 measured)"]
 fn the_relieved_cut_saw_tooths_and_the_unrelieved_one_does_not() {
     let cv = |o: &[Outputs]| {
         let m = mean(o, |o| o.normal_force);
@@ -180,8 +177,10 @@ fn the_relieved_cut_saw_tooths_and_the_unrelieved_one_does_not() {
     let (_, off, _) = two_passes(0.051, false, 1, 1.0, 0.001);
     // with chips the force drops where the rock ahead broke out and rises
     // on intact rock; without, the relieved pass is steady to 1 %
-    assert!(cv(&off) < 0.01, "{}", cv(&off));
-    assert!(cv(&on) > 0.05, "{}", cv(&on));
+    let (c_on, c_off) = (cv(&on), cv(&off));
+    eprintln!("normal-force CV: chips {c_on:.3}, none {c_off:.4}");
+    assert!(c_off < 0.01, "{c_off}");
+    assert!(c_on > 0.05, "{c_on}");
     assert!(mean(&on, |o| o.normal_force) < mean(&off, |o| o.normal_force));
 }
 

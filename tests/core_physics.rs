@@ -226,7 +226,7 @@ fn tilted_cutter_touching_with_its_corner_and_side_face_is_pushed_sideways() {
     }
     // the side face itself carries load at 60 deg (node-based face contact)
     let (m, pose) = press(Params::default(), 60f64.to_radians(), 6e-3);
-    let c = m.contact(&pose);
+    let c = m.contact(&pose, &Twist::new([0.0; 3], [0.0; 3]));
     assert!(c.side_force.norm() > 0.0, "side face carries no load");
 }
 

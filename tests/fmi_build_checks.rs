@@ -216,3 +216,24 @@ fn capabilities() {
         "modelIdentifier",
     );
 }
+
+#[test]
+fn event_indicator_count_and_default_experiment_tolerance() {
+    fails_with(
+        &edit(
+            r#"numberOfEventIndicators="1""#,
+            r#"numberOfEventIndicators="0""#,
+        ),
+        "numberOfEventIndicators must be 1",
+    );
+    fails_with(
+        &edit(r#" tolerance="1e-6""#, ""),
+        "<DefaultExperiment> needs a tolerance",
+    );
+    fails_with(
+        &edit(r#"tolerance="1e-6""#, r#"tolerance="0""#),
+        "<DefaultExperiment> needs a tolerance",
+    );
+    let code = build_script::check_and_generate(XML);
+    assert!(code.contains("pub const NUMBER_OF_EVENT_INDICATORS: usize = 1;"));
+}

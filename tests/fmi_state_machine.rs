@@ -157,7 +157,9 @@ fn model_exchange_sequence_and_zero_state_functions() {
         assert_eq!(f::fmi2GetContinuousStates(fmu.c, x.as_mut_ptr(), 0), OK);
         assert_eq!(f::fmi2GetDerivatives(fmu.c, x.as_mut_ptr(), 0), OK);
         assert_eq!(f::fmi2SetContinuousStates(fmu.c, x.as_ptr(), 0), OK);
-        assert_eq!(f::fmi2GetEventIndicators(fmu.c, x.as_mut_ptr(), 0), OK);
+        // one event indicator (the cut event): ni must be 1
+        assert_eq!(f::fmi2GetEventIndicators(fmu.c, x.as_mut_ptr(), 1), OK);
+        assert_eq!(f::fmi2GetEventIndicators(fmu.c, x.as_mut_ptr(), 0), ERROR);
         assert_eq!(
             f::fmi2GetNominalsOfContinuousStates(fmu.c, x.as_mut_ptr(), 0),
             OK

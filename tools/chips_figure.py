@@ -26,6 +26,7 @@ sys.path.insert(0, str(ROOT / "tools"))
 import numpy as np  # noqa: E402
 
 import kerfhost as kh  # noqa: E402
+from kerflab import lcm  # noqa: E402
 
 P = 3.8e-3           # penetration [m]
 LENGTH = 0.6         # pass length [m]
@@ -33,44 +34,17 @@ WINDOW = (0.1, 0.5)  # measured stretch of the last pass [m]
 PASSES = 4
 H = 1e-3             # communication step [s] at 1 m/s: 1 mm
 SPACINGS = [0.03, 0.04, 0.051, 0.065, 0.08, 0.1]  # S [m]: S/p 7.9 .. 26.3
-OUT = ["normalForce", "rollingForce", "sideForce", "excavatedVolume", "cuttingEnergy",
-       "chippedVolume"]
-
-
-def block(S, chipping, final=None):
-    y_min = -(PASSES - 1) * S - 0.1  # 100 mm of rock past the last pass: no free edge
-    sv = {"rock.xMin": -0.25, "rock.xMax": 0.85, "rock.nx": 1101,
-          "rock.yMin": y_min, "rock.yMax": 0.1, "rock.ny": int(round((0.1 - y_min) / 1e-3)) + 1,
-          "csm.spacing": S, "chipping.enabled": chipping}
-    if final:
-        sv["rock.finalSurface"] = str(final)
-    return sv
 
 
 def series(fmu, S, chipping, final=None):
-    """Runs the series; returns the last pass's samples (x and OUT) and its chip count."""
-    inst = fmu.instance("CS", name=f"lcm-{S}-{chipping}")
-    R = float(fmu.start("cutter.radius"))
-    try:
-        inst.initialize(block(S, chipping, final),
-                        inputs=dict(x=0.0, y=0.0, z=R - P, vx=1.0, wy=1.0 / R))
-        t, n = 0.0, int(round(LENGTH / H))
-        for k in range(PASSES):
-            rows = []
-            for i in range(n):
-                inst.set_reals(["x", "y"], [i * H, -k * S])  # a jump starts each pass
-                inst.f.doStep(currentCommunicationPoint=t, communicationStepSize=H)
-                t += H
-                rows.append([(i + 1) * H] + list(inst.get_reals(OUT)))
-        chips = inst.get("chipCount")
-        inst.f.terminate()
-    finally:
-        inst.free(terminate=False)
-    a = np.array(rows)
-    res = {name: a[:, i + 1] for i, name in enumerate(OUT)}
-    res["x"] = a[:, 0]
-    res["chipCount"] = chips
-    return res
+    """Runs the block (kerflab.lcm); returns the last pass's samples (x and the outputs)
+    and the block's chip count."""
+    res = lcm.run_block(fmu, S, P, passes=PASSES, discard=PASSES - 1, length=LENGTH, window=WINDOW,
+                        step=H, chipping=chipping, margin=0.1, final_surface=final, traces=True,
+                        name=f"lcm-{S}-{chipping}")
+    last = dict(res["traces"][-1])
+    last["chipCount"] = res["chipCount"]
+    return last
 
 
 def summary(res):

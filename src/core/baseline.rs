@@ -102,7 +102,7 @@ impl BaselineModel {
             return Err(KerfError::BadParameter {
                 name: "baseline resolution",
                 value: res.n_alpha.min(res.n_y) as f64,
-                why: "n_alpha and n_y need at least 2 points",
+                why: "n_alpha and n_y need at least 2 points".into(),
             });
         }
         let r = &params.rock;

@@ -317,7 +317,7 @@ fn lower_to_chip(map: &mut HeightMap, b: &Breakout, side: f64, r: &Relief) -> f6
             let z_chip = b.origin.z + slope * eta;
             let z = map.node(i, j);
             if z - z_chip > CUT_TOLERANCE {
-                map.set_node(i, j, z_chip);
+                map.lower_node(i, j, z_chip);
                 dropped += z - z_chip;
             }
         }

@@ -17,41 +17,29 @@
 //! flat face the exit is then exact; a rim hovering over its own groove does
 //! not start a contact from the groove's walls.
 //!
-//! **Which arc cuts.** Each side of the lowest point gives an arc of depth
-//! `p+` (towards cutter +x) and `p-`. A rolling cutter cuts with its leading
-//! arc; behind the lowest point the rock was cut by the cutter itself and
-//! carries (almost) nothing (Rostami's rear non-loading zone, thesis 3.2.2).
-//! The arcs of the governing (deepest) slice are blended with weights
-//! `p^4 / (p+^4 + p-^4)`: the leading arc wins, and a cutter at rest in its
-//! own symmetric pit pushes straight up with no jump in between. Slices sit at
-//! the centres of `n` equal strips of the tip, so none lies on the groove wall
-//! that the height map blurs.
-//!
-//! **Force.** CSM gives the magnitude from `p` (eq. 54, the depth of the
-//! governing slice) and its angle `beta = phi / (2 + psi)` from the lowest
-//! point in the rim plane. Across the tip the force leans by the mean of the
-//! tip-profile normals of the slices weighted by their contact arc length,
-//! so a cut beside a groove or a tilted cutter gets the side force its
-//! contact geometry gives, and a symmetric cut gets none.
-//!
-//! **Side faces.** Where a tilted disc's flat face lies in the rock, every
-//! height-map node under it whose vertical meets the face pushes with the CSM
-//! base pressure over its cell along the face normal, weighted like the rim's
-//! arcs: nodes ahead of the contact's lowest point by the leading weight,
-//! those behind by the trailing one.
+//! **The force** is kerf's contact law (`contact_law`): the CSM pressure
+//! integrated over the arcs where the surface is inside the rock and driving
+//! into it, on every rim slice and, for a tilted disc, on rings of its lower
+//! side face. Both sides of each circle are walked from its lowest point;
+//! the arcs of the side that cuts weigh `p^4 / (p+^4 + p-^4)` by the depth
+//! each side's driving arcs reach, so a cutter at rest in its own symmetric
+//! pit pushes straight up, and one at rest after rolling keeps the load of
+//! its leading arc.
 //!
 //! **Elastic layer.** A cut leaves the rock `elastic_depth` inside the rim
 //! (see `cut_cutter_heightmap`), so a cutter held still keeps its contact.
-//! The force is faded in over that depth (`smoothstep(u / elastic_depth)`,
-//! `u` the deepest the rim is inside the rock on any slice), so lifting the
-//! cutter off its groove unloads it without a jump up.
+//! Each arc's load is faded in over that depth (`smoothstep(u /
+//! elastic_depth)`, `u` the deepest the surface is inside the rock on the
+//! arc), so lifting the cutter off its groove unloads it without a jump.
 
 use nalgebra::Vector3;
 
+use super::contact_law::{arc_load, pressure_level, smoothstep, Element, Load, Motion};
 use super::csm::{contact_angle, CsmLaw};
-use super::cutter::{wrap, Face, PosedDisc};
+use super::cutter::{wrap, PosedDisc};
 use super::heightmap::HeightMap;
 use super::params::Numerics;
+use super::pose::Twist;
 
 /// One side of one slice: the first contact arc from the lowest point.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -84,6 +72,8 @@ pub struct Contact {
     /// inward unit normal there, rock frame: where friction reads the slip.
     pub slip_point: Vector3<f64>,
     pub slip_normal: Vector3<f64>,
+    /// Moment of the rim force about the disc centre, rock frame.
+    pub rim_moment: Vector3<f64>,
     /// Force and moment (about the centre) of the side faces, rock frame.
     pub side_force: Vector3<f64>,
     pub side_moment: Vector3<f64>,
@@ -96,12 +86,6 @@ pub fn slice_y(h: f64, n: usize, k: usize) -> f64 {
     -h + 2.0 * h * (k as f64 + 0.5) / n as f64
 }
 
-#[inline]
-fn smoothstep(s: f64) -> f64 {
-    let s = s.clamp(0.0, 1.0);
-    s * s * (3.0 - 2.0 * s)
-}
-
 /// One rim circle (slice `y`) of a posed disc, parametrised for fast walks:
 /// world point `base + ex * sin(theta) + ez * cos(theta)`.
 struct RimCircle {
@@ -111,8 +95,8 @@ struct RimCircle {
 }
 
 impl RimCircle {
-    fn new(disc: &PosedDisc, y: f64) -> Self {
-        let rho = disc.rho(y);
+    /// The circle of radius `rho` about the axle at axle coordinate `y`.
+    fn new(disc: &PosedDisc, y: f64, rho: f64) -> Self {
         let r = &disc.rot;
         Self {
             base: disc.centre + r.column(1) * y,
@@ -128,24 +112,10 @@ impl RimCircle {
     #[inline]
     fn overlap(&self, map: &HeightMap, s: f64, c: f64, dir: f64, look: f64) -> (f64, f64) {
         let p = self.base + self.ex * s + self.ez * c;
-        let here = map.height(p.x, p.y) - p.z;
-        if here > 0.0 {
-            // inside the rock already: the look-ahead cannot change the sign
-            return (here, here);
-        }
         // horizontal direction of the walk (d/dtheta of the point)
         let tx = dir * (self.ex.x * c - self.ez.x * s);
         let ty = dir * (self.ex.y * c - self.ez.y * s);
-        let n2 = tx * tx + ty * ty;
-        if n2 > 1e-12 * self.ex.norm_squared() {
-            let k = look / n2.sqrt();
-            (
-                here,
-                here.max(map.bilinear(p.x + k * tx, p.y + k * ty) - p.z),
-            )
-        } else {
-            (here, here)
-        }
+        rock_over(map, &p, tx, ty, 1e-12 * self.ex.norm_squared(), look)
     }
 
     /// Angles where the rim's world coordinate `axis` (0 = x, 1 = y) equals `e`.
@@ -165,6 +135,46 @@ impl RimCircle {
     fn z(&self, theta: f64) -> f64 {
         self.base.z + self.ex.z * theta.sin() + self.ez.z * theta.cos()
     }
+}
+
+/// The rock over the surface point `p` met by a walk whose horizontal
+/// direction is `(tx, ty)`: `(here, ahead)`, the overlap of the rock here and
+/// the larger of that and the overlap of the rock one `look` further along
+/// the walk, or diagonally ahead on either side where no node of the cell
+/// has been cut, when the cell ahead has an uncut node itself: the edge of a
+/// groove cut into the face is blurred across the walk as well, and the map
+/// knows which nodes a cut lowered; a walk inside an older groove (the cell
+/// ahead all cut) does not borrow that groove's uncut wall. Walks with
+/// `tx^2 + ty^2 <= tiny` (vertical) do not look ahead.
+#[inline]
+pub fn rock_over(
+    map: &HeightMap,
+    p: &Vector3<f64>,
+    tx: f64,
+    ty: f64,
+    tiny: f64,
+    look: f64,
+) -> (f64, f64) {
+    let here = map.height(p.x, p.y) - p.z;
+    if here > 0.0 {
+        // inside the rock already: the look-ahead cannot change the sign
+        return (here, here);
+    }
+    let n2 = tx * tx + ty * ty;
+    if n2 <= tiny {
+        return (here, here);
+    }
+    let k = look / n2.sqrt();
+    let (ax, ay) = (k * tx, k * ty);
+    let mut z = map.bilinear(p.x + ax, p.y + ay);
+    if map.any_uncut(p.x + ax, p.y + ay) {
+        for (dx, dy) in [(ax - ay, ay + ax), (ax + ay, ay - ax)] {
+            if let Some(u) = map.bilinear_uncut(p.x + dx, p.y + dy) {
+                z = z.max(u);
+            }
+        }
+    }
+    (here, here.max(z - p.z))
 }
 
 /// Refines a sign change of `f` between `t_in` (f > 0) and `t_out` (f <= 0)
@@ -218,6 +228,7 @@ const LEAN_TOL: f64 = 1e-6;
 #[derive(Debug, Clone, Copy)]
 pub struct Walk {
     y: f64,
+    radius: f64,
     dir: f64,
     a: f64,
     a_out: Option<(f64, f64, f64)>,
@@ -229,7 +240,7 @@ pub struct Walk {
 impl Walk {
     /// Depth of the arc if its end lay at `b` (`z(b) - z(a)`).
     fn depth_to(&self, disc: &PosedDisc, b: f64) -> f64 {
-        let rim = RimCircle::new(disc, self.y);
+        let rim = RimCircle::new(disc, self.y, self.radius);
         (rim.z(b) - rim.z(self.a)).max(0.0)
     }
 
@@ -248,7 +259,7 @@ impl Walk {
         refine_ends: bool,
         tol: f64,
     ) -> Arc {
-        let rim = RimCircle::new(disc, self.y);
+        let rim = RimCircle::new(disc, self.y, self.radius);
         let dir = self.dir;
         let a = match (self.a_out, refine_ends) {
             (Some((t_out, u_out, u_in)), true) => {
@@ -275,7 +286,7 @@ impl Walk {
             a,
             b,
             depth: (rim.z(b) - rim.z(a)).max(0.0),
-            length: disc.rho(self.y) * (b - a).abs(),
+            length: self.radius * (b - a).abs(),
             u_max: self.u_max,
         }
     }
@@ -289,13 +300,14 @@ pub fn march(
     map: &HeightMap,
     disc: &PosedDisc,
     y: f64,
+    radius: f64,
     theta0: f64,
     reach: f64,
     dir: f64,
     step: f64,
     look: f64,
 ) -> Option<Walk> {
-    let rim = RimCircle::new(disc, y);
+    let rim = RimCircle::new(disc, y, radius);
     let n = ((reach / step).ceil() as usize).max(1);
     let dt = dir * reach / n as f64;
     let (sd, cd) = dt.sin_cos();
@@ -315,7 +327,7 @@ pub fn march(
         // the lowest point is out of the rock: search for the start with a
         // step of half a cell of rim, so that a short arc (the rim meeting
         // the end face of the rock, a groove's shoulder) is not stepped over
-        let fine = (look * 0.5 / disc.rho(y)).min(dt.abs());
+        let fine = (look * 0.5 / radius).min(dt.abs());
         let m = ((reach / fine).ceil() as usize).max(1);
         let dtf = dir * reach / m as f64;
         // ... and at the angles where the rim crosses the edges of the map,
@@ -372,6 +384,7 @@ pub fn march(
     };
     Some(Walk {
         y,
+        radius,
         dir,
         a,
         a_out,
@@ -385,13 +398,173 @@ pub fn march(
 /// change the force by less than this fraction.
 const NEGLIGIBLE_WEIGHT: f64 = 1e-14;
 
-/// The contact of `disc` with `map` under `law` (kerf's direction rule).
+/// Most rings sampled across a tilted disc's side face (midpoint rule in
+/// the radius; each ring's arcs are exact).
+const MAX_RINGS: usize = 24;
+
+/// The look-ahead of the "rock still there" test, in cells (or sweep steps,
+/// whichever is longer): long enough to reach past the scallops a swept cut
+/// leaves between its sub-steps.
+const LOOK_AHEAD_CELLS: f64 = 4.0;
+
+/// Below this penetration \[m\] the pressure level keeps its value at this
+/// depth. The CSM charges the full tip width (`T R phi`) at any depth, while a
+/// round tip shallower than this touches less than three quarters of it
+/// (9.9 of 13 mm at 1 mm for the thesis's disc): the closed form's level
+/// there would charge a sliver of contact for a full-width cut. Fresh cuts
+/// from 1 mm down are the CSM closed form exactly.
+pub const LEVEL_DEPTH: f64 = 1.0e-3;
+
+/// The look-ahead travel \[m\] for cells of `look` (the larger side).
+pub fn look_ahead(look: f64, num: &Numerics) -> f64 {
+    LOOK_AHEAD_CELLS * look.max(num.sweep_step)
+}
+
+/// How much deeper than the elastic layer the rock ahead must reach to
+/// count as still there: the elastic depth, or the height-map's own
+/// interpolation error across the tip profile (`cell^2 / (8 r)`), whichever
+/// is larger.
+pub fn still_there_tolerance(elastic_depth: f64, look: f64, disc: &PosedDisc) -> f64 {
+    elastic_depth.max(0.125 * look * look / disc.tip_radius)
+}
+
+/// One arc's share of the load: its whole-arc and driving loads blended by
+/// how fast the disc moves, the driving part weighed by whether the rock it
+/// drives into is still there (three points of its longest driving part,
+/// carried `look_ahead` along the motion), all faded by how deep the rock
+/// reaches over the arc (`u_max`) and by the law's regularisation at the
+/// arc's depth `reg` (an arc shallower than `numerics.pReg` grows linearly
+/// from first touch, as the CSM law does). Returns the load and the fraction
+/// of the whole arc's force it keeps (which scales the arc's depth in the
+/// side blend).
+#[allow(clippy::too_many_arguments)]
+pub fn arc_contribution(
+    map: &HeightMap,
+    motion: &Motion,
+    e: &Element,
+    (t0, t1): (f64, f64),
+    (whole, drive): (Load, Load),
+    (u_max, reg): (f64, f64),
+    elastic_depth: f64,
+    eta: f64,
+) -> (Load, f64) {
+    let sigma = motion.moving;
+    let mut still_there = 1.0;
+    if sigma > 0.0 && drive.force != Vector3::zeros() {
+        let (parts, np) = e.driving_parts(t0, t1);
+        if let Some(&(a, b)) = parts[..np]
+            .iter()
+            .max_by(|p, q| (p.1 - p.0).total_cmp(&(q.1 - q.0)))
+        {
+            let mut sum = 0.0;
+            for f in [0.25, 0.5, 0.75] {
+                let x = motion.ahead(&e.point(a + (b - a) * f));
+                let u = map.height(x.x, x.y) - x.z;
+                sum += smoothstep((u - elastic_depth - eta) / eta);
+            }
+            still_there = sum / 3.0;
+        }
+    }
+    let fade = smoothstep(u_max / elastic_depth) * reg;
+    let load = (whole.scaled(1.0 - sigma) + drive.scaled(sigma * still_there)).scaled(fade);
+    let wn = whole.force.norm();
+    let eff = if wn > 0.0 {
+        (load.force.norm() / wn).min(1.0)
+    } else {
+        0.0
+    };
+    (load, eff)
+}
+
+/// The contact from the summed loads `[rim | face][side]` (cutter frame,
+/// unit pressure) and each side's effective depth: the side blend
+/// `p^4 / (p+^4 + p-^4)`, the penetration, the pressure level of `n` slices
+/// and the rock-frame forces. `None` when no side reaches any depth. Also
+/// returns the blend weights.
+pub fn assemble(
+    disc: &PosedDisc,
+    law: &CsmLaw,
+    n: usize,
+    loads: [[Load; 2]; 2],
+    depth: [f64; 2],
+) -> Option<(Contact, (f64, f64))> {
+    let (wp, wm) = {
+        let (a, b) = (depth[0].powi(4), depth[1].powi(4));
+        if a + b > 0.0 {
+            (a / (a + b), b / (a + b))
+        } else {
+            (0.5, 0.5)
+        }
+    };
+    let p = wp * depth[0] + wm * depth[1];
+    if p <= 0.0 {
+        return None;
+    }
+    // the pressure level that makes a fresh straight cut the CSM closed form,
+    // held at its LEVEL_DEPTH value below that depth
+    let phi = contact_angle(disc.radius, p.min(2.0 * disc.radius));
+    let pl = p.max(LEVEL_DEPTH);
+    let phl = contact_angle(disc.radius, pl.min(2.0 * disc.radius));
+    let reg = |d: f64| law.regularisation(d);
+    let (lr, ln) = pressure_level(
+        disc,
+        n,
+        pl,
+        law.psi(),
+        law.force(pl),
+        law.resultant_angle(phl),
+        &reg,
+    );
+    let finish = |l: [Load; 2]| {
+        let f = l[0].force * wp + l[1].force * wm;
+        let m = l[0].moment * wp + l[1].moment * wm;
+        let f = Vector3::new(lr * f.x, ln * f.y, ln * f.z);
+        (disc.rot * f, disc.rot * (m * ln))
+    };
+    let (rim_force, rim_moment) = finish(loads[0]);
+    let (side_force, side_moment) = finish(loads[1]);
+    let application = if rim_force.norm_squared() > 0.0 {
+        rim_force.cross(&rim_moment) / rim_force.norm_squared()
+    } else {
+        Vector3::zeros()
+    };
+    Some((
+        Contact {
+            in_contact: true,
+            penetration: p,
+            phi,
+            rim_force,
+            rim_moment,
+            application,
+            side_force,
+            side_moment,
+            ..Contact::default()
+        },
+        (wp, wm),
+    ))
+}
+
+/// A circle of the disc's surface about the axle that the query walks.
+#[derive(Debug, Clone, Copy, Default)]
+struct Circle {
+    /// Axle coordinate and radius.
+    y: f64,
+    radius: f64,
+    /// Strip width across the tip (rim) or band width (ring).
+    width: f64,
+    /// 0 for a rim slice, the face's side (+1 / -1) for a ring.
+    face: f64,
+}
+
+/// The contact of `disc` with `map` under `law` (kerf's law), for a disc
+/// moving with `twist` (rock frame).
 pub fn contact(
     map: &HeightMap,
     disc: &PosedDisc,
     law: &CsmLaw,
     num: &Numerics,
     elastic_depth: f64,
+    twist: &Twist,
 ) -> Contact {
     let g = map.grid();
     let none = Contact::default();
@@ -413,23 +586,61 @@ pub fn contact(
     let look = g.dx.max(g.dy);
     let n = num.tip_slices;
     let h = disc.half_width;
-    let tr = disc.tip_radius;
+    let motion = Motion::new(disc, twist, LOOK_AHEAD_CELLS * look.max(num.sweep_step));
 
-    // per slice, both sides: march first, then refine the ends of the arcs
-    // on every side whose weight in the blend can matter
-    let mut walks = [[None::<Walk>; 2]; 101];
-    for (k, pair) in walks.iter_mut().enumerate().take(n) {
+    // the circles: rim slices, then rings on the side face that faces down
+    let mut circles = [Circle::default(); 101 + MAX_RINGS];
+    let mut nc = 0;
+    for k in 0..n {
         let y = slice_y(h, n, k);
-        let rho = disc.rho(y);
-        let Some((theta0, reach)) = disc.arc_below(y, rho, z_top) else {
+        circles[nc] = Circle {
+            y,
+            radius: disc.rho(y),
+            width: 2.0 * h / n as f64,
+            face: 0.0,
+        };
+        nc += 1;
+    }
+    let axle_z = disc.rot[(2, 1)];
+    if axle_z.abs() > 1e-12 {
+        let side = -axle_z.signum();
+        let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
+        let r_hi = disc.rho(h);
+        let r_lo = if m > 1e-12 {
+            ((disc.centre.z + axle_z * side * h - z_top) / m).max(0.0)
+        } else {
+            0.0
+        };
+        if r_lo < r_hi {
+            let nr = (((r_hi - r_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_RINGS);
+            let dr = (r_hi - r_lo) / nr as f64;
+            for j in 0..nr {
+                circles[nc] = Circle {
+                    y: side * h,
+                    radius: r_lo + dr * (j as f64 + 0.5),
+                    width: dr,
+                    face: side,
+                };
+                nc += 1;
+            }
+        }
+    }
+    let circles = &circles[..nc];
+
+    // per circle, both sides: march first, then refine the ends of the arcs
+    // on every side whose weight in the blend can matter
+    let mut walks = [[None::<Walk>; 2]; 101 + MAX_RINGS];
+    for (c, pair) in circles.iter().zip(walks.iter_mut()) {
+        let Some((theta0, reach)) = disc.arc_below(c.y, c.radius, z_top) else {
             continue;
         };
-        let step = num.arc_step_cells * cell / rho;
+        let step = num.arc_step_cells * cell / c.radius;
         for (s, dir) in [(0usize, 1.0f64), (1, -1.0)] {
             pair[s] = march(
                 map,
                 disc,
-                y,
+                c.y,
+                c.radius,
                 theta0,
                 reach.min(std::f64::consts::PI),
                 dir,
@@ -440,7 +651,7 @@ pub fn contact(
     }
     let mut lo = [0.0f64; 2];
     let mut hi = [0.0f64; 2];
-    for pair in walks.iter().take(n) {
+    for pair in walks.iter().take(nc) {
         for s in 0..2 {
             if let Some(w) = pair[s] {
                 lo[s] = lo[s].max(w.depth_to(disc, w.b_in.0));
@@ -453,152 +664,88 @@ pub fn contact(
         me + other == 0.0 || me / (me + other) > NEGLIGIBLE_WEIGHT
     };
     let refine_side = [matters(0), matters(1)];
-    // slices that may turn out deepest get the fine tolerance
+    // circles that may turn out deepest get the fine tolerance
     let deepest_lo = lo[0].max(lo[1]);
-    let mut arcs = [[None::<Arc>; 2]; 101];
+
+    // the load of every arc
+    let psi = law.psi();
+    let eta = still_there_tolerance(elastic_depth, look, disc);
+    let mut loads = [[Load::default(); 2]; 2]; // [rim | face][side]
+    let mut depth = [0.0f64; 2];
+    let mut any = false;
+    // the deepest rim arc, for the slip point, and the lean of the tip
     let mut gov: Option<(usize, f64)> = None;
-    for k in 0..n {
-        let may_govern = walks[k]
+    let mut arcs = [[None::<Arc>; 2]; 101];
+    for (ci, c) in circles.iter().enumerate() {
+        let may_govern = walks[ci]
             .iter()
             .flatten()
             .any(|w| w.depth_bound(disc) >= deepest_lo);
         let tol = if may_govern { ANGLE_TOL } else { LEAN_TOL };
         for s in 0..2 {
-            let arc = walks[k][s].map(|w| w.finish(map, disc, look, refine_side[s], tol));
-            if let Some(a) = arc {
-                if gov.is_none_or(|(_, d)| a.depth > d) {
-                    gov = Some((k, a.depth));
+            let Some(w) = walks[ci][s] else { continue };
+            let arc = w.finish(map, disc, look, refine_side[s], tol);
+            any = true;
+            if c.face == 0.0 {
+                arcs[ci][s] = Some(arc);
+                if gov.is_none_or(|(_, d)| arc.depth > d) {
+                    gov = Some((ci, arc.depth));
                 }
             }
-            arcs[k][s] = arc;
+            let e = if c.face == 0.0 {
+                Element::rim(disc, c.y, c.width, &motion)
+            } else {
+                Element::ring(disc, c.face, c.radius, c.width, &motion)
+            };
+            let (t0, t1, far_hi) = if arc.b >= arc.a {
+                (arc.a, arc.b, true)
+            } else {
+                (arc.b, arc.a, false)
+            };
+            let (whole, drive) = arc_load(&e, t0, t1, far_hi, psi);
+            let (load, eff) = arc_contribution(
+                map,
+                &motion,
+                &e,
+                (t0, t1),
+                (whole, drive),
+                (arc.u_max, law.regularisation(arc.depth)),
+                elastic_depth,
+                eta,
+            );
+            depth[s] = depth[s].max(arc.depth * eff);
+            let part = usize::from(c.face != 0.0);
+            let l = &mut loads[part][s];
+            *l += load;
         }
     }
-    let mut c = Contact::default();
-    let any_rim = gov.is_some();
-    let (kg, _) = gov.unwrap_or((0, 0.0));
-    let [ap, am] = arcs[kg];
-    let (pp, pm) = (ap.map_or(0.0, |a| a.depth), am.map_or(0.0, |a| a.depth));
-    let (wp, wm) = match (ap, am) {
-        (Some(_), None) => (1.0, 0.0),
-        (None, Some(_)) => (0.0, 1.0),
-        _ => {
-            let (a, b) = (pp.powi(4), pm.powi(4));
-            if a + b > 0.0 {
-                (a / (a + b), b / (a + b))
-            } else {
-                (0.5, 0.5)
-            }
-        }
+    if !any {
+        return none;
+    }
+    let Some((mut c, (wp, wm))) = assemble(disc, law, n, loads, depth) else {
+        return Contact {
+            in_contact: true,
+            ..Contact::default()
+        };
     };
-    if any_rim {
-        let frac = law.resultant_fraction();
-        let mut d_plane = Vector3::zeros();
-        let mut theta_slip = 0.0;
-        for (arc, w) in [(ap, wp), (am, wm)] {
-            if let (Some(arc), true) = (arc, w > 0.0) {
-                let tf = arc.a + (arc.b - arc.a) * frac;
-                d_plane += w * Vector3::new(-tf.sin(), 0.0, tf.cos());
-                theta_slip += w * arc.a;
-            }
-        }
-        // elastic fade: the deepest the rim is inside the rock on any slice
-        let u_in = arcs
-            .iter()
-            .take(n)
-            .flatten()
-            .flatten()
-            .fold(0.0f64, |m, a| m.max(a.u_max));
-        let fade = smoothstep(u_in / elastic_depth);
-        let (mut lat, mut vert, mut wsum, mut ysum) = (0.0, 0.0, 0.0, 0.0);
+    // friction reads the slip where the cutting rim arc is lowest
+    if let Some((kg, _)) = gov {
+        let [ap, am] = arcs[kg];
+        let theta_slip = wp * ap.map_or(0.0, |a| a.a) + wm * am.map_or(0.0, |a| a.a);
+        let (mut wsum, mut ysum) = (0.0, 0.0);
         for (k, pair) in arcs.iter().enumerate().take(n) {
-            let y = slice_y(h, n, k);
             let len = |a: Option<Arc>| a.map_or(0.0, |a| a.length);
             let w = wp * len(pair[0]) + wm * len(pair[1]);
-            lat -= w * y / tr;
-            vert += w * (tr * tr - y * y).max(0.0).sqrt() / tr;
             wsum += w;
-            ysum += w * y;
+            ysum += w * slice_y(h, n, k);
         }
-        let dn = d_plane.norm();
-        if dn > 0.0 && wsum > 0.0 {
-            let dp = d_plane / dn;
-            let dir = Vector3::new(dp.x * vert, lat, dp.z * vert).normalize();
-            let p = wp * pp + wm * pm;
-            c.penetration = p;
-            c.phi = contact_angle(disc.radius, p.min(2.0 * disc.radius));
-            c.rim_force = disc.rot * (dir * law.force(p) * fade);
-            let theta_f = (-dp.x).atan2(dp.z);
-            let y_f = (ysum / wsum).clamp(-h, h);
-            c.application = disc.rot * disc.rim_point_local(theta_f, y_f);
-            c.slip_point = disc.rot * disc.rim_point_local(theta_slip, y_f);
-            c.slip_normal = -(disc.rot * disc.rim_normal_local(theta_slip, y_f));
-            c.in_contact = true;
-        }
-    }
-    // side faces: only a disc whose axle is not horizontal can put a side
-    // face under the rock along a vertical
-    if disc.rot[(2, 1)].abs() > 1e-12 {
-        let (f, m, touched) = side_faces(map, disc, law, num, elastic_depth, z_top, &c, (wp, wm));
-        c.side_force = f;
-        c.side_moment = m;
-        c.in_contact |= touched;
+        let y_f = if wsum > 0.0 {
+            (ysum / wsum).clamp(-h, h)
+        } else {
+            0.0
+        };
+        c.slip_point = disc.rot * disc.rim_point_local(theta_slip, y_f);
+        c.slip_normal = -(disc.rot * disc.rim_normal_local(theta_slip, y_f));
     }
     c
-}
-
-/// Load of a tilted disc's flat side faces: every node under a face whose
-/// vertical meets the face below the rock pushes with the CSM base pressure
-/// over its cell along the face normal, with the rim's leading/trailing
-/// weights `w` on either side of the contact's lowest point. Returns the
-/// force and moment (about the centre, rock frame) and whether any node
-/// touched.
-#[allow(clippy::too_many_arguments)]
-fn side_faces(
-    map: &HeightMap,
-    disc: &PosedDisc,
-    law: &CsmLaw,
-    num: &Numerics,
-    elastic_depth: f64,
-    z_top: f64,
-    rim: &Contact,
-    (wp, wm): (f64, f64),
-) -> (Vector3<f64>, Vector3<f64>, bool) {
-    let g = map.grid();
-    let (mut force, mut moment, mut touched) = (Vector3::zeros(), Vector3::zeros(), false);
-    let Some(bb) = disc.footprint_below(z_top) else {
-        return (force, moment, touched);
-    };
-    let Some((i0, i1, j0, j1)) = g.node_range(bb[0], bb[1], bb[2], bb[3]) else {
-        return (force, moment, touched);
-    };
-    let p_ref = rim.penetration.max(num.p_reg);
-    let pressure = law.base_pressure(p_ref, contact_angle(disc.radius, p_ref));
-    // a face sliding in its own plane stays in elastic touch with the rock it
-    // cut behind the lowest point, which carries the trailing weight only
-    let x_split = (disc.rot.transpose() * rim.slip_point).x;
-    for j in j0..=j1 {
-        for i in i0..=i1 {
-            let (x, y) = g.node_xy(i, j);
-            let Some((zl, Face::Side(s))) = disc.lower_boundary(x, y) else {
-                continue;
-            };
-            let u = map.node(i, j) - zl;
-            if u <= 0.0 {
-                continue;
-            }
-            let q = Vector3::new(x, y, zl) - disc.centre;
-            let w = if (disc.rot.transpose() * q).x >= x_split {
-                wp
-            } else {
-                wm
-            };
-            let n_out = disc.rot * Vector3::new(0.0, s as f64, 0.0);
-            let area = g.cell_area() / n_out.z.abs().max(0.1);
-            let f = -n_out * (pressure * area * w * smoothstep(u / elastic_depth));
-            force += f;
-            moment += q.cross(&f);
-            touched = true;
-        }
-    }
-    (force, moment, touched)
 }

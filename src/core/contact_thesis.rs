@@ -18,9 +18,16 @@ use super::csm::CsmLaw;
 use super::cutter::PosedDisc;
 use super::heightmap::HeightMap;
 use super::params::Numerics;
+use super::pose::Twist;
 
-pub fn contact_thesis(map: &HeightMap, disc: &PosedDisc, law: &CsmLaw, num: &Numerics) -> Contact {
-    let base = contact(map, disc, law, num, num.elastic_depth);
+pub fn contact_thesis(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    law: &CsmLaw,
+    num: &Numerics,
+    twist: &Twist,
+) -> Contact {
+    let base = contact(map, disc, law, num, num.elastic_depth, twist);
     if !base.in_contact || base.penetration <= 0.0 {
         return base;
     }
@@ -73,8 +80,10 @@ pub fn contact_thesis(map: &HeightMap, disc: &PosedDisc, law: &CsmLaw, num: &Num
     } else {
         0.0
     };
+    let rim_force = normal * law.force(base.penetration) * fade;
     Contact {
-        rim_force: normal * law.force(base.penetration) * fade,
+        rim_force,
+        rim_moment: fp.cross(&rim_force),
         application: fp,
         slip_point: fp,
         slip_normal: normal,

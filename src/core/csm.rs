@@ -111,9 +111,27 @@ impl CsmLaw {
         }
     }
 
+    /// The share of the unregularised law the regularised one keeps at `p`:
+    /// 1 from `p_reg` up, falling to 0 like `sqrt(p)` below (so that a force
+    /// growing like `sqrt(p)` times this grows linearly from first touch).
+    pub fn regularisation(&self, p: f64) -> f64 {
+        if p >= self.p_reg {
+            1.0
+        } else if p <= 0.0 {
+            0.0
+        } else {
+            self.force(p) / self.raw_force(p)
+        }
+    }
+
     /// Angle of the resultant from the lowest point of an arc of angle `phi`.
     pub fn resultant_angle(&self, phi: f64) -> f64 {
         phi / (2.0 + self.csm.psi)
+    }
+
+    /// The pressure-distribution exponent `psi`.
+    pub fn psi(&self) -> f64 {
+        self.csm.psi
     }
 
     /// Fraction of an arc, measured from its lowest point, at which the resultant acts.

@@ -41,6 +41,11 @@ fn node_window(map: &HeightMap, disc: &PosedDisc) -> Option<(usize, usize, usize
     g.node_range(bb[0], bb[1], bb[2], bb[3])
 }
 
+/// How many nodes [`cut`] or [`would_cut`] at this pose would scan at most.
+pub fn window_nodes(map: &HeightMap, disc: &PosedDisc) -> usize {
+    node_window(map, disc).map_or(0, |(i0, i1, j0, j1)| (i1 - i0 + 1) * (j1 - j0 + 1))
+}
+
 /// Read access to the map, and writes where the caller may write.
 trait Nodes {
     fn map(&self) -> &HeightMap;
@@ -52,7 +57,7 @@ impl Nodes for HeightMap {
         self
     }
     fn set(&mut self, i: usize, j: usize, z: f64) {
-        self.set_node(i, j, z);
+        self.lower_node(i, j, z);
     }
 }
 

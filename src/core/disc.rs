@@ -100,19 +100,19 @@ impl Disc {
     }
 
     /// The contact geometry and cutting force (no friction) at `pose`.
-    pub fn contact(&self, map: &HeightMap, pose: &Pose, params: &Params) -> Contact {
+    pub fn contact(&self, map: &HeightMap, pose: &Pose, twist: &Twist, params: &Params) -> Contact {
         let disc = self.posed(pose);
         let n = &params.numerics;
         match n.direction {
-            DirectionRule::Kerf => contact(map, &disc, &self.law, n, n.elastic_depth),
-            DirectionRule::Thesis => contact_thesis(map, &disc, &self.law, n),
+            DirectionRule::Kerf => contact(map, &disc, &self.law, n, n.elastic_depth, twist),
+            DirectionRule::Thesis => contact_thesis(map, &disc, &self.law, n, twist),
         }
     }
 
     /// Force and moment on the disc at `pose` moving with `twist`, against
     /// `map` (no bookkeeping, no cache).
     pub fn compute(&self, map: &HeightMap, pose: &Pose, twist: &Twist, params: &Params) -> Outputs {
-        let c = self.contact(map, pose, params);
+        let c = self.contact(map, pose, twist, params);
         let rot = pose.rotation();
         // friction on the slip of the rim over the rock where the contact is
         // lowest (kerf) or at the point of force application (thesis eq. 56)
@@ -124,8 +124,7 @@ impl Disc {
             Vector3::zeros()
         };
         let force = c.rim_force + c.side_force + friction;
-        let moment =
-            c.application.cross(&c.rim_force) + c.slip_point.cross(&friction) + c.side_moment;
+        let moment = c.rim_moment + c.slip_point.cross(&friction) + c.side_moment;
         Outputs::from_force(force, moment, &rot, c.penetration, c.phi, c.in_contact)
     }
 
@@ -337,6 +336,19 @@ pub fn sweep(
     n: usize,
     path: impl Fn(f64) -> Result<Vec<(Pose, Twist)>>,
 ) -> Result<Vec<(Pose, Twist)>> {
+    // at the start of the run (nothing cut yet) a disc's start pose is cut
+    // first, as Model Exchange's initial event does (kerf.fmu's rule)
+    let mut first = false;
+    for (i, (pose, _)) in start.iter().enumerate() {
+        if states[i].last_cut.is_none() {
+            discs[i].cut_at(face, &mut states[i], pose, params);
+            states[i].last_cut = Some(*pose);
+            first = true;
+        }
+    }
+    if first {
+        discs.iter().for_each(Disc::forget);
+    }
     let o0 = evaluate_all(discs, &face.map, start, params);
     if params.chipping.enabled {
         // a path that does not continue the last one starts here: chip

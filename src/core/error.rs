@@ -5,11 +5,13 @@ use std::fmt;
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum KerfError {
-    /// A parameter is out of its domain (name, value, why).
+    /// A parameter is out of its domain (name, value, why): outside its
+    /// allowed range (`bounds.rs`, the range is in `why`) or breaking a rule
+    /// between parameters.
     BadParameter {
         name: &'static str,
         value: f64,
-        why: &'static str,
+        why: std::borrow::Cow<'static, str>,
     },
     /// An input is not finite or absurd (name, value).
     BadInput { name: &'static str, value: f64 },
@@ -24,6 +26,10 @@ pub enum KerfError {
     /// A head layout or one of its discs is invalid (the whole message:
     /// file, cutter and key).
     Layout(String),
+    /// One call would do more work than a call may (sub-steps, nodes visited
+    /// or written); the message says how to split it. Refused before
+    /// anything changed.
+    TooMuchWork(String),
 }
 
 impl fmt::Display for KerfError {
@@ -45,6 +51,7 @@ impl fmt::Display for KerfError {
             }
             KerfError::BadState(why) => write!(f, "FMU state rejected: {why}"),
             KerfError::Layout(msg) => write!(f, "{msg}"),
+            KerfError::TooMuchWork(why) => write!(f, "refused, nothing changed: {why}"),
         }
     }
 }

@@ -20,10 +20,11 @@ use nalgebra::{Matrix3, Rotation3, Vector3};
 
 use super::disc::{commit_paths, sub_steps, sweep, Disc, DiscState};
 use super::error::{KerfError, Result};
+use super::face::blob;
 use super::face::{grid_of, Face};
 use super::heightmap::HeightMap;
 use super::layout::{CutterSpec, Layout};
-use super::model::{blob, check_step, Outputs};
+use super::model::{check_step, Outputs};
 use super::params::{CutterParams, Params};
 use super::pose::{advance_pose, Pose, Twist};
 use super::rsf;
@@ -525,7 +526,7 @@ impl Head {
             return Err(KerfError::BadParameter {
                 name: "head.steadyPenetration",
                 value: p_rev,
-                why: "must lie in [0, 0.05] m",
+                why: "must lie in [0, 0.05] m".into(),
             });
         }
         if p_rev == 0.0 {

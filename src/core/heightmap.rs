@@ -23,9 +23,21 @@ const TILE_NODES: usize = TILE * TILE;
 /// Height returned outside the map: there is no rock there.
 pub const NO_ROCK: f64 = f64::NEG_INFINITY;
 
+/// Words of a tile's cut mask.
+const MASK_WORDS: usize = TILE_NODES / 64;
+
+#[derive(Debug, Clone, PartialEq)]
+struct TileData {
+    z: [f64; TILE_NODES],
+    /// One bit per node: set once a cut or a chip has lowered it (loading a
+    /// surface does not). The contact reads it to tell the blurred edge of a
+    /// groove from the face it was cut from.
+    cut: [u64; MASK_WORDS],
+}
+
 #[derive(Debug, Clone)]
 struct Tile {
-    z: Arc<[f64; TILE_NODES]>,
+    d: Arc<TileData>,
     /// An upper bound of the heights in the tile (cuts only lower nodes, so
     /// it is kept exact on writes that raise and conservative on cuts).
     z_max: f64,
@@ -33,7 +45,7 @@ struct Tile {
 
 impl PartialEq for Tile {
     fn eq(&self, other: &Self) -> bool {
-        self.z_max == other.z_max && (Arc::ptr_eq(&self.z, &other.z) || self.z == other.z)
+        self.z_max == other.z_max && (Arc::ptr_eq(&self.d, &other.d) || self.d == other.d)
     }
 }
 
@@ -181,7 +193,7 @@ impl HeightMap {
     /// with a clone counts in each).
     pub fn memory_bytes(&self) -> usize {
         self.tiles.len() * std::mem::size_of::<Option<Tile>>()
-            + self.allocated_tiles() * std::mem::size_of::<[f64; TILE_NODES]>()
+            + self.allocated_tiles() * std::mem::size_of::<TileData>()
     }
 
     #[inline]
@@ -197,23 +209,53 @@ impl HeightMap {
     pub fn node(&self, i: usize, j: usize) -> f64 {
         let (t, k) = self.tile_index(i, j);
         match &self.tiles[t] {
-            Some(tile) => tile.z[k],
+            Some(tile) => tile.d.z[k],
             None => self.z0,
         }
     }
 
-    /// Sets node `(i, j)`, allocating its tile on first write.
+    fn tile_mut(&mut self, t: usize) -> &mut Tile {
+        let z0 = self.z0;
+        self.tiles[t].get_or_insert_with(|| Tile {
+            d: Arc::new(TileData {
+                z: [z0; TILE_NODES],
+                cut: [0; MASK_WORDS],
+            }),
+            z_max: z0,
+        })
+    }
+
+    /// Sets node `(i, j)`, allocating its tile on first write (a surface
+    /// being loaded: the node does not count as cut).
     pub fn set_node(&mut self, i: usize, j: usize, z: f64) {
         let (t, k) = self.tile_index(i, j);
-        let z0 = self.z0;
-        let tile = self.tiles[t].get_or_insert_with(|| Tile {
-            z: Arc::new([z0; TILE_NODES]),
-            z_max: z0,
-        });
+        let tile = self.tile_mut(t);
         // copy on write: a tile shared with a snapshot is copied here, once
-        Arc::make_mut(&mut tile.z)[k] = z;
+        Arc::make_mut(&mut tile.d).z[k] = z;
         if z > tile.z_max {
             tile.z_max = z;
+        }
+    }
+
+    /// Lowers node `(i, j)` to `z` by a cut or a chip, and marks it cut.
+    pub fn lower_node(&mut self, i: usize, j: usize, z: f64) {
+        let (t, k) = self.tile_index(i, j);
+        let tile = self.tile_mut(t);
+        let d = Arc::make_mut(&mut tile.d);
+        d.z[k] = z;
+        d.cut[k / 64] |= 1u64 << (k % 64);
+        if z > tile.z_max {
+            tile.z_max = z;
+        }
+    }
+
+    /// Has a cut or a chip lowered node `(i, j)`?
+    #[inline]
+    pub fn is_cut(&self, i: usize, j: usize) -> bool {
+        let (t, k) = self.tile_index(i, j);
+        match &self.tiles[t] {
+            Some(tile) => tile.d.cut[k / 64] >> (k % 64) & 1 == 1,
+            None => false,
         }
     }
 
@@ -281,6 +323,41 @@ impl HeightMap {
         a + (b - a) * fv
     }
 
+    /// Does the cell holding `(x, y)` have a node no cut has lowered?
+    #[inline]
+    pub fn any_uncut(&self, x: f64, y: f64) -> bool {
+        self.grid.cell(x, y).is_some_and(|(i, j, _, _)| {
+            !(self.is_cut(i, j)
+                && self.is_cut(i + 1, j)
+                && self.is_cut(i, j + 1)
+                && self.is_cut(i + 1, j + 1))
+        })
+    }
+
+    /// Bilinear height of the cell holding `(x, y)` when no cut has lowered
+    /// any of its four nodes, else `None`: where the rock is still the face
+    /// it was cut from.
+    #[inline]
+    pub fn bilinear_uncut(&self, x: f64, y: f64) -> Option<f64> {
+        let (i, j, fu, fv) = self.grid.cell(x, y)?;
+        if self.is_cut(i, j)
+            || self.is_cut(i + 1, j)
+            || self.is_cut(i, j + 1)
+            || self.is_cut(i + 1, j + 1)
+        {
+            return None;
+        }
+        let z = [
+            self.node(i, j),
+            self.node(i + 1, j),
+            self.node(i, j + 1),
+            self.node(i + 1, j + 1),
+        ];
+        let a = z[0] + (z[1] - z[0]) * fu;
+        let b = z[2] + (z[3] - z[2]) * fu;
+        Some(a + (b - a) * fv)
+    }
+
     /// Surface height at `(x, y)`, [`NO_ROCK`] outside the map (the same
     /// triangles as [`HeightMap::point`], without the slopes).
     #[inline]
@@ -300,27 +377,36 @@ impl HeightMap {
     }
 
     /// Indices of the tiles written so far, with their heights (row-major
-    /// inside a tile; nodes past the grid edge hold `z0`).
-    pub fn touched_tiles(&self) -> impl Iterator<Item = (usize, &[f64])> {
+    /// inside a tile; nodes past the grid edge hold `z0`) and their cut masks
+    /// (bit `k % 64` of word `k / 64` for node `k`).
+    pub fn touched_tiles(&self) -> impl Iterator<Item = (usize, &[f64], &[u64])> {
         self.tiles
             .iter()
             .enumerate()
-            .filter_map(|(k, t)| t.as_ref().map(|t| (k, &t.z[..])))
+            .filter_map(|(k, t)| t.as_ref().map(|t| (k, &t.d.z[..], &t.d.cut[..])))
     }
+
+    /// Words of a tile's cut mask.
+    pub const MASK_WORDS: usize = MASK_WORDS;
 
     pub fn tile_count(&self) -> usize {
         self.tiles.len()
     }
 
     /// Restores a tile written by [`HeightMap::touched_tiles`].
-    pub fn load_tile(&mut self, k: usize, z: &[f64]) -> Option<()> {
-        if k >= self.tiles.len() || z.len() != TILE_NODES {
+    pub fn load_tile(&mut self, k: usize, z: &[f64], cut: &[u64]) -> Option<()> {
+        if k >= self.tiles.len() || z.len() != TILE_NODES || cut.len() != MASK_WORDS {
             return None;
         }
-        let mut zt = Arc::new([0.0; TILE_NODES]);
-        Arc::make_mut(&mut zt).copy_from_slice(z);
-        let z_max = zt.iter().copied().fold(NO_ROCK, f64::max);
-        self.tiles[k] = Some(Tile { z: zt, z_max });
+        let mut d = Arc::new(TileData {
+            z: [0.0; TILE_NODES],
+            cut: [0; MASK_WORDS],
+        });
+        let dm = Arc::make_mut(&mut d);
+        dm.z.copy_from_slice(z);
+        dm.cut.copy_from_slice(cut);
+        let z_max = d.z.iter().copied().fold(NO_ROCK, f64::max);
+        self.tiles[k] = Some(Tile { d, z_max });
         Some(())
     }
 }
@@ -378,7 +464,7 @@ mod tests {
             m.tiles
                 .iter()
                 .zip(&n.tiles)
-                .filter(|(x, y)| matches!((x, y), (Some(x), Some(y)) if Arc::ptr_eq(&x.z, &y.z)))
+                .filter(|(x, y)| matches!((x, y), (Some(x), Some(y)) if Arc::ptr_eq(&x.d, &y.d)))
                 .count()
         };
         assert_eq!(shared(&a, &b), a.allocated_tiles());

@@ -24,12 +24,17 @@ pub mod layout;
 pub use disc::{Disc, DiscState};
 pub use error::{KerfError, Result};
 pub use face::Face;
-pub use model::{friction_coefficient, friction_force, Model, ModelState, Outputs};
+pub use model::{
+    friction_coefficient, friction_force, rim_speed, rim_spin_speed, rim_travel, Model, ModelState,
+    Outputs,
+};
 pub use params::{CsmVariant, DirectionRule, Params};
 pub use pose::{Pose, Twist};
 pub mod baseline;
 pub mod chip_heightmap;
+pub mod contact_bruteforce;
 pub mod contact_cutter_heightmap;
+pub mod contact_law;
 pub mod contact_thesis;
 pub mod csm;
 pub mod cut_cutter_heightmap;

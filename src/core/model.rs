@@ -1,15 +1,19 @@
 //! The model: parameters, the rock and the bookkeeping, and the three
 //! operations the FMI layer needs (evaluate, commit, advance).
 
-use nalgebra::Vector3;
+use std::cell::Cell;
 
-use super::contact_cutter_heightmap::Contact;
+use nalgebra::{UnitQuaternion, Vector3};
+
+use super::chip_heightmap::ChipState;
+use super::contact_cutter_heightmap::{contact, Contact};
+use super::contact_thesis::contact_thesis;
 use super::csm::CsmLaw;
-use super::disc::{commit_paths, sub_steps, sweep, Disc, DiscState};
+use super::cut_cutter_heightmap::{cut, window_nodes, would_cut};
+use super::cutter::PosedDisc;
 use super::error::{KerfError, Result};
-use super::face::{grid_of, Face};
-use super::heightmap::HeightMap;
-use super::params::Params;
+use super::heightmap::{Grid, HeightMap, TILE};
+use super::params::{DirectionRule, Params, MAX_NODE_VISITS_PER_CALL, MAX_SUBSTEPS_PER_CALL};
 use super::pose::{advance_pose, Pose, Twist};
 use super::rsf;
 
@@ -46,288 +50,227 @@ pub struct Outputs {
 /// The discrete state: what `fmi2GetFMUstate` captures.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelState {
-    /// The rock and its bookkeeping.
-    face: Face,
-    /// The disc's own state: last cut, chips.
-    disc: DiscState,
+    map: HeightMap,
+    excavated_volume: f64,
+    cutting_energy: f64,
+    /// Where the rock was last cut (end of the last commit or advance): the
+    /// next Model Exchange commit cuts along the path from here.
+    last_cut: Option<Pose>,
+    /// Where the chips are along the path (chipping on).
+    chips: ChipState,
 }
 
 const MAGIC: &[u8; 8] = b"KERFCORE";
-const VERSION: u32 = 3;
+/// 4: tiles carry their cut masks.
+const VERSION: u32 = 4;
 
-/// Little-endian writers and a checked reader for the state blobs of the
-/// model and the head.
-pub(crate) mod blob {
-    use super::super::chip_heightmap::ChipState;
-    use super::super::disc::DiscState;
-    use super::super::error::{KerfError, Result};
-    use super::super::face::Face;
-    use super::super::heightmap::{Grid, HeightMap, TILE};
-    use super::super::pose::Pose;
-
-    pub fn bad(why: &str) -> KerfError {
-        KerfError::BadState(why.to_string())
-    }
-
-    pub fn f64s(v: &mut Vec<u8>, xs: &[f64]) {
-        for x in xs {
-            v.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-
-    pub fn u64s(v: &mut Vec<u8>, xs: &[u64]) {
-        for x in xs {
-            v.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-
-    /// Grid, base height, excavated volume and cutting energy.
-    pub fn face_header(v: &mut Vec<u8>, face: &Face) {
-        let g = face.map.grid();
-        u64s(v, &[g.nx as u64, g.ny as u64]);
-        f64s(
-            v,
-            &[
-                g.x_min,
-                g.y_min,
-                g.dx,
-                g.dy,
-                face.map.base_height(),
-                face.excavated_volume,
-                face.cutting_energy,
-            ],
-        );
-    }
-
-    /// Last cut and chips of one disc.
-    pub fn disc_state(v: &mut Vec<u8>, s: &DiscState) {
-        match s.last_cut {
-            Some(p) => {
-                v.push(1);
-                f64s(
-                    v,
-                    &[
-                        p.position.x,
-                        p.position.y,
-                        p.position.z,
-                        p.yaw,
-                        p.pitch,
-                        p.roll,
-                    ],
-                );
-            }
-            None => v.push(0),
-        }
-        let c = &s.chips;
-        f64s(v, &[c.travel, c.next, c.volume]);
-        u64s(v, &[c.index, c.count]);
-        match c.last_low {
-            Some(p) => {
-                v.push(1);
-                f64s(v, &p);
-            }
-            None => v.push(0),
-        }
-    }
-
-    /// The touched tiles only.
-    pub fn tiles(v: &mut Vec<u8>, map: &HeightMap) {
-        let tiles: Vec<(usize, &[f64])> = map.touched_tiles().collect();
-        v.reserve(8 + tiles.len() * (8 + TILE * TILE * 8));
-        u64s(v, &[tiles.len() as u64]);
-        for (k, z) in tiles {
-            u64s(v, &[k as u64]);
-            f64s(v, z);
-        }
-    }
-
-    pub struct Reader<'a> {
-        pub bytes: &'a [u8],
-        pub pos: usize,
-    }
-
-    impl<'a> Reader<'a> {
-        pub fn new(bytes: &'a [u8]) -> Self {
-            Self { bytes, pos: 0 }
-        }
-
-        pub fn take(&mut self, n: usize) -> Result<&'a [u8]> {
-            let s = self
-                .bytes
-                .get(self.pos..self.pos + n)
-                .ok_or_else(|| bad("the blob is truncated"))?;
-            self.pos += n;
-            Ok(s)
-        }
-
-        pub fn u8(&mut self) -> Result<u8> {
-            Ok(self.take(1)?[0])
-        }
-
-        pub fn u32(&mut self) -> Result<u32> {
-            Ok(u32::from_le_bytes(self.take(4)?.try_into().unwrap()))
-        }
-
-        pub fn u64(&mut self) -> Result<u64> {
-            Ok(u64::from_le_bytes(self.take(8)?.try_into().unwrap()))
-        }
-
-        pub fn f64(&mut self) -> Result<f64> {
-            Ok(f64::from_le_bytes(self.take(8)?.try_into().unwrap()))
-        }
-
-        pub fn end(&self) -> Result<()> {
-            if self.pos != self.bytes.len() {
-                return Err(bad("trailing bytes"));
-            }
-            Ok(())
-        }
-
-        /// Reads what [`face_header`] wrote and checks it against `grid`
-        /// and `z0`; returns (excavated volume, cutting energy).
-        pub fn face_header(&mut self, grid: &Grid, z0: f64) -> Result<(f64, f64)> {
-            let (nx, ny) = (self.u64()?, self.u64()?);
-            let mut f = [0f64; 7];
-            for x in &mut f {
-                *x = self.f64()?;
-            }
-            let same = nx == grid.nx as u64
-                && ny == grid.ny as u64
-                && f[0] == grid.x_min
-                && f[1] == grid.y_min
-                && f[2] == grid.dx
-                && f[3] == grid.dy
-                && f[4] == z0;
-            if !same {
-                return Err(bad("the state was saved for another rock grid"));
-            }
-            if !(f[5].is_finite() && f[6].is_finite()) {
-                return Err(bad("non-finite bookkeeping"));
-            }
-            Ok((f[5], f[6]))
-        }
-
-        /// Reads what [`disc_state`] wrote.
-        pub fn disc_state(&mut self) -> Result<DiscState> {
-            let last_cut = match self.u8()? {
-                0 => None,
-                1 => {
-                    let mut q = [0f64; 6];
-                    for x in &mut q {
-                        *x = self.f64()?;
-                    }
-                    let pose = Pose::new(q[0], q[1], q[2], q[3], q[4], q[5]);
-                    pose.validate()
-                        .map_err(|_| bad("non-finite last cut pose"))?;
-                    Some(pose)
-                }
-                _ => return Err(bad("bad last-cut flag")),
-            };
-            let mut cf = [0f64; 3];
-            for x in &mut cf {
-                *x = self.f64()?;
-            }
-            let index = self.u64()?;
-            let count = self.u64()?;
-            let last_low = match self.u8()? {
-                0 => None,
-                1 => {
-                    let mut q = [0f64; 3];
-                    for x in &mut q {
-                        *x = self.f64()?;
-                    }
-                    Some(q)
-                }
-                _ => return Err(bad("bad chip flag")),
-            };
-            if !cf
-                .iter()
-                .chain(last_low.iter().flatten())
-                .all(|x| x.is_finite())
-            {
-                return Err(bad("non-finite chip state"));
-            }
-            let [travel, next, volume] = cf;
-            Ok(DiscState {
-                last_cut,
-                chips: ChipState {
-                    travel,
-                    index,
-                    next,
-                    last_low,
-                    count,
-                    volume,
-                },
-            })
-        }
-
-        /// Reads what [`tiles`] wrote onto a flat map of `grid` at `z0`.
-        pub fn tiles(&mut self, grid: Grid, z0: f64) -> Result<HeightMap> {
-            let mut map = HeightMap::flat(grid, z0);
-            let n = self.u64()?;
-            if n > map.tile_count() as u64 {
-                return Err(bad("more tiles than the grid has"));
-            }
-            let mut z = vec![0.0; TILE * TILE];
-            for _ in 0..n {
-                let k = self.u64()? as usize;
-                for x in z.iter_mut() {
-                    *x = self.f64()?;
-                    if !x.is_finite() {
-                        return Err(bad("non-finite height"));
-                    }
-                }
-                map.load_tile(k, &z)
-                    .ok_or_else(|| bad("tile index out of range"))?;
-            }
-            Ok(map)
-        }
-    }
+fn grid_of(params: &Params) -> Grid {
+    let r = &params.rock;
+    Grid::new(r.x_min, r.x_max, r.y_min, r.y_max, r.nx, r.ny)
 }
 
 impl ModelState {
     /// Versioned little-endian binary form: magic, version, grid, bookkeeping,
     /// then the touched tiles only.
     pub fn to_bytes(&self) -> Vec<u8> {
-        let mut v = Vec::with_capacity(96);
+        let g = self.map.grid();
+        let tiles: Vec<(usize, &[f64], &[u64])> = self.map.touched_tiles().collect();
+        let mut v = Vec::with_capacity(
+            96 + tiles.len() * (8 + TILE * TILE * 8 + HeightMap::MASK_WORDS * 8),
+        );
         v.extend_from_slice(MAGIC);
         v.extend_from_slice(&VERSION.to_le_bytes());
-        blob::face_header(&mut v, &self.face);
-        blob::disc_state(&mut v, &self.disc);
-        blob::tiles(&mut v, &self.face.map);
+        for n in [g.nx as u64, g.ny as u64] {
+            v.extend_from_slice(&n.to_le_bytes());
+        }
+        for x in [
+            g.x_min,
+            g.y_min,
+            g.dx,
+            g.dy,
+            self.map.base_height(),
+            self.excavated_volume,
+            self.cutting_energy,
+        ] {
+            v.extend_from_slice(&x.to_le_bytes());
+        }
+        match self.last_cut {
+            Some(p) => {
+                v.push(1);
+                for x in [
+                    p.position.x,
+                    p.position.y,
+                    p.position.z,
+                    p.yaw,
+                    p.pitch,
+                    p.roll,
+                ] {
+                    v.extend_from_slice(&x.to_le_bytes());
+                }
+            }
+            None => v.push(0),
+        }
+        let c = &self.chips;
+        for x in [c.travel, c.next, c.volume] {
+            v.extend_from_slice(&x.to_le_bytes());
+        }
+        for n in [c.index, c.count] {
+            v.extend_from_slice(&n.to_le_bytes());
+        }
+        match c.last_low {
+            Some(p) => {
+                v.push(1);
+                for x in p {
+                    v.extend_from_slice(&x.to_le_bytes());
+                }
+            }
+            None => v.push(0),
+        }
+        v.extend_from_slice(&(tiles.len() as u64).to_le_bytes());
+        for (k, z, cut) in tiles {
+            v.extend_from_slice(&(k as u64).to_le_bytes());
+            for x in z {
+                v.extend_from_slice(&x.to_le_bytes());
+            }
+            for w in cut {
+                v.extend_from_slice(&w.to_le_bytes());
+            }
+        }
         v
     }
 
     /// Inverse of [`ModelState::to_bytes`]; rejects corrupt or foreign blobs
     /// and blobs made for another height-map grid.
     pub fn from_bytes(bytes: &[u8], params: &Params) -> Result<Self> {
-        let mut r = blob::Reader::new(bytes);
-        if r.take(8)? != MAGIC {
-            return Err(blob::bad("not a kerf state (wrong magic)"));
+        let bad = |why: &str| KerfError::BadState(why.to_string());
+        params.validate()?;
+        let pos = Cell::new(0usize);
+        let take = |n: usize| -> Result<&[u8]> {
+            let s = bytes
+                .get(pos.get()..pos.get() + n)
+                .ok_or_else(|| bad("the blob is truncated"))?;
+            pos.set(pos.get() + n);
+            Ok(s)
+        };
+        if take(8)? != MAGIC {
+            return Err(bad("not a kerf state (wrong magic)"));
         }
-        let version = r.u32()?;
+        let version = u32::from_le_bytes(take(4)?.try_into().unwrap());
         if version != VERSION {
             return Err(KerfError::BadState(format!(
                 "state version {version}, this build reads {VERSION}"
             )));
         }
-        let grid = grid_of(&params.rock);
-        let (excavated_volume, cutting_energy) = r.face_header(&grid, params.rock.z0)?;
-        let disc = r.disc_state()?;
-        let map = r.tiles(grid, params.rock.z0)?;
-        r.end()?;
+        let mut u64s = [0u64; 2];
+        for u in &mut u64s {
+            *u = u64::from_le_bytes(take(8)?.try_into().unwrap());
+        }
+        let mut f = [0f64; 7];
+        for x in &mut f {
+            *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
+        }
+        let grid = grid_of(params);
+        let same = u64s[0] == grid.nx as u64
+            && u64s[1] == grid.ny as u64
+            && f[0] == grid.x_min
+            && f[1] == grid.y_min
+            && f[2] == grid.dx
+            && f[3] == grid.dy
+            && f[4] == params.rock.z0;
+        if !same {
+            return Err(bad("the state was saved for another rock grid"));
+        }
+        if !(f[5].is_finite() && f[6].is_finite()) {
+            return Err(bad("non-finite bookkeeping"));
+        }
+        let last_cut = match take(1)?[0] {
+            0 => None,
+            1 => {
+                let mut q = [0f64; 6];
+                for x in &mut q {
+                    *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
+                }
+                let pose = Pose::new(q[0], q[1], q[2], q[3], q[4], q[5]);
+                pose.validate()
+                    .map_err(|_| bad("non-finite last cut pose"))?;
+                Some(pose)
+            }
+            _ => return Err(bad("bad last-cut flag")),
+        };
+        let mut cf = [0f64; 3];
+        for x in &mut cf {
+            *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
+        }
+        let index = u64::from_le_bytes(take(8)?.try_into().unwrap());
+        let count = u64::from_le_bytes(take(8)?.try_into().unwrap());
+        let last_low = match take(1)?[0] {
+            0 => None,
+            1 => {
+                let mut q = [0f64; 3];
+                for x in &mut q {
+                    *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
+                }
+                Some(q)
+            }
+            _ => return Err(bad("bad chip flag")),
+        };
+        if !cf
+            .iter()
+            .chain(last_low.iter().flatten())
+            .all(|x| x.is_finite())
+        {
+            return Err(bad("non-finite chip state"));
+        }
+        let [travel, next, volume] = cf;
+        let chips = ChipState {
+            travel,
+            index,
+            next,
+            last_low,
+            count,
+            volume,
+        };
+        let n = u64::from_le_bytes(take(8)?.try_into().unwrap());
+        // sizes against the blob and the grid before anything is built
+        let tile_bytes = (8 + TILE * TILE * 8 + HeightMap::MASK_WORDS * 8) as u64;
+        if n.checked_mul(tile_bytes) != Some((bytes.len() - pos.get()) as u64) {
+            return Err(bad("the tile count does not match the blob's size"));
+        }
+        let tiles = grid.nx.div_ceil(TILE) as u64 * grid.ny.div_ceil(TILE) as u64;
+        if n > tiles {
+            return Err(bad("more tiles than the grid has"));
+        }
+        let mut map = HeightMap::flat(grid, params.rock.z0);
+        let mut z = vec![0.0; TILE * TILE];
+        let mut cut = vec![0u64; HeightMap::MASK_WORDS];
+        for _ in 0..n {
+            let k = u64::from_le_bytes(take(8)?.try_into().unwrap()) as usize;
+            for x in z.iter_mut() {
+                *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
+                if !x.is_finite() {
+                    return Err(bad("non-finite height"));
+                }
+            }
+            for w in cut.iter_mut() {
+                *w = u64::from_le_bytes(take(8)?.try_into().unwrap());
+            }
+            map.load_tile(k, &z, &cut)
+                .ok_or_else(|| bad("tile index out of range"))?;
+        }
+        if pos.get() != bytes.len() {
+            return Err(bad("trailing bytes"));
+        }
         Ok(Self {
-            face: Face {
-                map,
-                excavated_volume,
-                cutting_energy,
-            },
-            disc,
+            map,
+            excavated_volume: f[5],
+            cutting_energy: f[6],
+            last_cut,
+            chips,
         })
     }
 
     pub fn map(&self) -> &HeightMap {
-        &self.face.map
+        &self.map
     }
 }
 
@@ -418,11 +361,42 @@ pub(crate) fn check_interval(dt: f64) -> Result<()> {
     }
 }
 
+/// Travel of a rim point along a straight move from `a` to `b`, as the cut
+/// sub-steps count it: the move of the disc centre plus the turn between the
+/// two orientations times the disc `radius`.
+pub fn rim_travel(a: &Pose, b: &Pose, radius: f64) -> f64 {
+    let q0 = UnitQuaternion::from_rotation_matrix(&a.rotation());
+    let q1 = UnitQuaternion::from_rotation_matrix(&b.rotation());
+    (b.position - a.position).norm() + q0.angle_to(&q1) * radius
+}
+
+/// Speed of a rim point of a disc at `pose` moving with `twist`, as a
+/// Co-Simulation step counts its travel: the centre's speed plus the turn
+/// rate of the disc's frame (the spin about the axle left out) times `radius`.
+pub fn rim_speed(pose: &Pose, twist: &Twist, radius: f64) -> f64 {
+    let axle = pose.rotation() * Vector3::y();
+    let w_frame = twist.omega - axle * twist.omega.dot(&axle);
+    twist.velocity.norm() + w_frame.norm() * radius
+}
+
+/// Speed of a rim point about the disc centre from the spin about the axle
+/// (`|w . axle| radius`): the rim's motion that the pose does not show (a
+/// disc spinning in place skids its rim over the rock at this speed).
+pub fn rim_spin_speed(pose: &Pose, twist: &Twist, radius: f64) -> f64 {
+    let axle = pose.rotation() * Vector3::y();
+    twist.omega.dot(&axle).abs() * radius
+}
+
 pub struct Model {
     params: Params,
-    /// The one disc, with its contact cache.
-    disc: Disc,
+    law: CsmLaw,
     state: ModelState,
+    /// The last evaluation (pose, twist, outputs); cleared when the rock changes.
+    cache: Cell<Option<(Pose, Twist, Outputs)>>,
+    /// The outputs right after the last commit (pose, twist, outputs): the
+    /// start of the next commit's trapezoidal work. Only a cache (a restored
+    /// state recomputes it from the rock and the last cut's pose).
+    after_commit: Cell<Option<(Pose, Twist, Outputs)>>,
 }
 
 impl Model {
@@ -430,16 +404,30 @@ impl Model {
     /// `rock.initial_surface`).
     pub fn new(params: Params) -> Result<Self> {
         params.validate()?;
-        let face = Face::new(&params.rock)?;
-        let disc = Disc::new(params.cutter, params.csm, params.numerics.p_reg);
-        let state = ModelState {
-            face,
-            disc: DiscState::new(&params),
+        let grid = grid_of(&params);
+        let map = if params.rock.initial_surface.is_empty() {
+            HeightMap::flat(grid, params.rock.z0)
+        } else {
+            rsf::read(
+                std::path::Path::new(&params.rock.initial_surface),
+                grid,
+                params.rock.z0,
+            )?
         };
+        let law = CsmLaw::new(params.cutter, params.csm, params.numerics.p_reg);
+        let chips = ChipState::new(&params.chipping);
         Ok(Self {
             params,
-            disc,
-            state,
+            law,
+            state: ModelState {
+                map,
+                excavated_volume: 0.0,
+                cutting_energy: 0.0,
+                last_cut: None,
+                chips,
+            },
+            cache: Cell::new(None),
+            after_commit: Cell::new(None),
         })
     }
 
@@ -448,61 +436,123 @@ impl Model {
     }
 
     pub fn law(&self) -> &CsmLaw {
-        self.disc.law()
+        &self.law
     }
 
     /// The committed rock.
     pub fn map(&self) -> &HeightMap {
-        &self.state.face.map
-    }
-
-    /// The rock and its bookkeeping.
-    pub fn face(&self) -> &Face {
-        &self.state.face
+        &self.state.map
     }
 
     /// Warnings about parameters that are legal but questionable (for the
     /// FMI logger): an Ozdemir regression outside its Table 1 range.
     pub fn warnings(&self) -> Vec<String> {
-        self.law()
+        self.law
             .range_warnings(0.0038)
             .into_iter()
             .filter(|w| !w.contains(": penetration"))
             .collect()
     }
 
-    /// The contact geometry and cutting force (no friction) at `pose`.
-    pub fn contact(&self, pose: &Pose) -> Contact {
-        self.disc.contact(&self.state.face.map, pose, &self.params)
+    fn disc(&self, pose: &Pose) -> PosedDisc {
+        PosedDisc::new(&self.params.cutter, pose)
+    }
+
+    /// The contact geometry and cutting force (no friction) at `pose`, for a
+    /// disc moving with `twist`.
+    pub fn contact(&self, pose: &Pose, twist: &Twist) -> Contact {
+        let disc = self.disc(pose);
+        let n = &self.params.numerics;
+        match n.direction {
+            DirectionRule::Kerf => {
+                contact(&self.state.map, &disc, &self.law, n, n.elastic_depth, twist)
+            }
+            DirectionRule::Thesis => contact_thesis(&self.state.map, &disc, &self.law, n, twist),
+        }
+    }
+
+    /// The contact law at `pose` by brute force (`contact_bruteforce`): the
+    /// oracle the fast query is tested against.
+    pub fn contact_brute(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        res: &super::contact_bruteforce::Resolution,
+    ) -> Contact {
+        let n = &self.params.numerics;
+        super::contact_bruteforce::contact_brute(
+            &self.state.map,
+            &self.disc(pose),
+            &self.law,
+            n,
+            n.elastic_depth,
+            twist,
+            res,
+        )
     }
 
     /// Contact force for `pose`, against the committed rock. Never changes the rock.
     pub fn evaluate(&self, pose: &Pose, twist: &Twist) -> Result<Outputs> {
         pose.validate()?;
         twist.validate()?;
-        let o = self
-            .disc
-            .evaluate(&self.state.face.map, pose, twist, &self.params);
+        if let Some((p, t, o)) = self.cache.get() {
+            if p == *pose && t == *twist {
+                return Ok(self.with_bookkeeping(o));
+            }
+        }
+        let o = self.compute(pose, twist);
+        self.cache.set(Some((*pose, *twist, o)));
         Ok(self.with_bookkeeping(o))
     }
 
     /// `o` with the current excavated volume, cutting energy and specific energy.
     fn with_bookkeeping(&self, mut o: Outputs) -> Outputs {
         let s = &self.state;
-        o.excavated_volume = s.face.excavated_volume;
-        o.cutting_energy = s.face.cutting_energy;
-        o.specific_energy = s.face.specific_energy();
-        o.chipped_volume = s.disc.chips.volume;
-        o.chip_count = s.disc.chips.count;
+        o.excavated_volume = s.excavated_volume;
+        o.cutting_energy = s.cutting_energy;
+        o.specific_energy = if s.excavated_volume > 0.0 {
+            s.cutting_energy / s.excavated_volume
+        } else {
+            0.0
+        };
+        o.chipped_volume = s.chips.volume;
+        o.chip_count = s.chips.count;
         o
+    }
+
+    fn compute(&self, pose: &Pose, twist: &Twist) -> Outputs {
+        let c = self.contact(pose, twist);
+        let rot = pose.rotation();
+        // friction on the slip of the rim over the rock where the contact is
+        // lowest (kerf) or at the point of force application (thesis eq. 56)
+        let slip_v = twist.velocity + twist.omega.cross(&c.slip_point);
+        let f = &self.params.friction;
+        let friction = if c.in_contact {
+            friction_force(c.rim_force.norm(), slip_v, c.slip_normal, f.mu, f.vs)
+        } else {
+            Vector3::zeros()
+        };
+        let force = c.rim_force + c.side_force + friction;
+        let moment = c.rim_moment + c.slip_point.cross(&friction) + c.side_moment;
+        Outputs::from_force(force, moment, &rot, c.penetration, c.phi, c.in_contact)
+    }
+
+    /// Rim travel ([`rim_travel`]) from the pose of the last cut to `pose`;
+    /// `None` before the first cut. Changes nothing.
+    pub fn travel_since_cut(&self, pose: &Pose) -> Option<f64> {
+        self.state
+            .last_cut
+            .map(|prev| rim_travel(&prev, pose, self.params.cutter.radius))
     }
 
     /// Would [`Model::commit`] at `pose` change the rock?
     pub fn cuts(&self, pose: &Pose) -> Result<bool> {
         pose.validate()?;
-        Ok(self
-            .disc
-            .would_cut(&self.state.face.map, pose, &self.params))
+        Ok(would_cut(
+            &self.state.map,
+            &self.disc(pose),
+            self.params.numerics.elastic_depth,
+        ))
     }
 
     /// Rate of work of the cutter on the rock at `pose` \[W\]: `-(F.v + M.w)`.
@@ -513,25 +563,178 @@ impl Model {
         Ok(o.work_on_rock(twist, 1.0))
     }
 
+    fn cut_at(&mut self, pose: &Pose) -> bool {
+        let disc = self.disc(pose);
+        let r = &self.params.rock;
+        let stats = cut(
+            &mut self.state.map,
+            &disc,
+            self.params.numerics.elastic_depth,
+            r.plastic_fraction,
+        );
+        self.state.excavated_volume += stats.volume;
+        let chips = self.chip_at(&disc, stats.nodes > 0);
+        if stats.nodes > 0 || chips {
+            self.cache.set(None);
+        }
+        stats.nodes > 0 || chips
+    }
+
+    /// Longest move in plan between two poses of one path: a path is cut in
+    /// sub-steps of at most `sweep_step` of rim travel; anything longer is a
+    /// jump to a new pass.
+    fn chip_max_step(&self) -> f64 {
+        let g = self.state.map.grid();
+        2.0 * self.params.numerics.sweep_step + g.dx.max(g.dy)
+    }
+
+    /// With chipping on, records the pose `disc` on the path (`cut`: the
+    /// disc removed rock there) and breaks out the chips it has reached;
+    /// returns whether any did.
+    fn chip_at(&mut self, disc: &PosedDisc, cut: bool) -> bool {
+        let p = &self.params.chipping;
+        if !p.enabled {
+            return false;
+        }
+        let max_step = self.chip_max_step();
+        let s = self.state.chips.after_cut(
+            &mut self.state.map,
+            p,
+            disc.lowest_point(),
+            cut,
+            disc.half_width,
+            max_step,
+        );
+        self.state.excavated_volume += s.volume;
+        s.count > 0
+    }
+
     /// Cuts the rock at `pose` (a Model Exchange event). `dt` is the time since
     /// the previous commit, for the energy bookkeeping. Returns whether the rock changed.
     ///
-    /// The cut follows the path from the pose of the previous cut (see
-    /// [`commit_paths`], of which this is the one-disc case), so a solver step
-    /// longer than a cell leaves no uncut rock (the thesis cut only at the
-    /// sampled poses).
+    /// The cut follows the path from the pose of the previous cut, so a
+    /// solver step longer than a cell leaves no uncut rock (the thesis cut
+    /// only at the sampled poses). The path is taken as straight (positions
+    /// linear, orientation by slerp) and cut in sub-steps of at most
+    /// `numerics.sweep_step` of rim travel, when the move is one a step can
+    /// make: shorter than the disc radius, or explained by the velocity
+    /// inputs. A longer jump (a host that moves the cutter to start a new
+    /// pass) is not a path: only the new pose is cut.
+    ///
+    /// The energy takes the trapezoidal rule between the outputs after the
+    /// previous cut and those after this one, as [`Model::advance`] does over
+    /// a step, so that events at a Co-Simulation host's communication points
+    /// book the same work.
     pub fn commit(&mut self, pose: &Pose, twist: &Twist, dt: f64) -> Result<bool> {
         check_interval(dt)?;
         pose.validate()?;
         twist.validate()?;
-        commit_paths(
-            &mut self.state.face,
-            std::slice::from_mut(&mut self.disc),
-            std::slice::from_mut(&mut self.state.disc),
-            &[(*pose, *twist)],
+        let before = match self.state.last_cut {
+            Some(prev) => Some(match self.after_commit.get() {
+                Some((p, t, o)) if p == prev && t == *twist => o,
+                _ => self.evaluate(&prev, twist)?,
+            }),
+            None => None,
+        };
+        // the path, checked whole before anything changes
+        let mut path: Option<(UnitQuaternion<f64>, UnitQuaternion<f64>, Pose, usize)> = None;
+        if let Some(prev) = self.state.last_cut {
+            let jump = (pose.position - prev.position).norm();
+            let explained = jump <= 2.0 * twist.velocity.norm() * dt + self.params.cutter.radius;
+            if explained && prev != *pose {
+                let (q0, q1) = (
+                    UnitQuaternion::from_rotation_matrix(&prev.rotation()),
+                    UnitQuaternion::from_rotation_matrix(&pose.rotation()),
+                );
+                let travel = rim_travel(&prev, pose, self.params.cutter.radius);
+                let n = self.sub_steps(travel, "the solver step since the last event", dt)?;
+                path = Some((q0, q1, prev, n));
+            }
+        }
+        let along = |k: usize| -> Pose {
+            let (q0, q1, prev, n) = path.unwrap();
+            let t = k as f64 / n as f64;
+            let q = q0.slerp(&q1, t);
+            let p = prev.position + (pose.position - prev.position) * t;
+            Pose::from_rotation(p, &q.to_rotation_matrix())
+        };
+        let n = path.map_or(1, |p| p.3);
+        self.check_visits(
+            (1..n).map(along).chain(std::iter::once(*pose)),
+            "the solver step since the last event",
             dt,
-            &self.params,
-        )
+        )?;
+        self.transaction(|m| {
+            let mut changed = false;
+            for k in 1..n {
+                changed |= m.cut_at(&along(k));
+            }
+            changed |= m.cut_at(pose);
+            m.state.last_cut = Some(*pose);
+            let after = m.evaluate(pose, twist)?;
+            m.after_commit.set(Some((*pose, *twist, after)));
+            m.state.cutting_energy += match before {
+                Some(b) => 0.5 * (b.work_on_rock(twist, dt) + after.work_on_rock(twist, dt)),
+                None => after.work_on_rock(twist, dt),
+            };
+            Ok(changed)
+        })
+    }
+
+    /// Runs `f`, a change of the discrete state, all or nothing: on an
+    /// error (or a panic, which goes on unwinding) the state and the
+    /// evaluation cache are put back as they were.
+    fn transaction<T>(&mut self, f: impl FnOnce(&mut Self) -> Result<T>) -> Result<T> {
+        let saved = (self.state.clone(), self.cache.get());
+        match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(self))) {
+            Ok(Ok(v)) => Ok(v),
+            Ok(Err(e)) => {
+                self.state = saved.0;
+                self.cache.set(saved.1);
+                Err(e)
+            }
+            Err(panic) => {
+                self.state = saved.0;
+                self.cache.set(saved.1);
+                std::panic::resume_unwind(panic)
+            }
+        }
+    }
+
+    /// Sub-steps of a path of `travel` of rim travel, within the work one
+    /// call may do; `what` and `span` (its duration) name the call's step.
+    fn sub_steps(&self, travel: f64, what: &str, span: f64) -> Result<usize> {
+        let s = self.params.numerics.sweep_step;
+        let n = (travel / s).ceil().max(1.0);
+        if n <= MAX_SUBSTEPS_PER_CALL {
+            return Ok(n as usize);
+        }
+        let parts = (n / MAX_SUBSTEPS_PER_CALL).ceil();
+        Err(KerfError::TooMuchWork(format!(
+            "{what} ({span} s) moves the rim {travel:e} m, {n:e} sub-steps of numerics.sweepStep = {s} m, \
+             more than the {MAX_SUBSTEPS_PER_CALL:e} one call may take: split it into at least \
+             {parts} steps of at most {:e} s",
+            span / parts
+        )))
+    }
+
+    /// Checks every pose of a path and the nodes its cuts would scan.
+    fn check_visits(&self, poses: impl Iterator<Item = Pose>, what: &str, span: f64) -> Result<()> {
+        let mut visits = 0.0;
+        for p in poses {
+            p.validate()?;
+            visits += window_nodes(&self.state.map, &self.disc(&p)) as f64;
+        }
+        if visits <= MAX_NODE_VISITS_PER_CALL {
+            return Ok(());
+        }
+        let parts = (visits / MAX_NODE_VISITS_PER_CALL).ceil();
+        Err(KerfError::TooMuchWork(format!(
+            "{what} ({span} s) would scan {visits:e} height-map nodes, more than the \
+             {MAX_NODE_VISITS_PER_CALL:e} one call may: split it into at least {parts} steps \
+             of at most {:e} s",
+            span / parts
+        )))
     }
 
     /// Moves the cutter from `start` along `twist` for `h` seconds, cutting the
@@ -539,22 +742,48 @@ impl Model {
     /// sub-steps no longer than `numerics.sweep_step` of travel of any rim
     /// point, so no uncut rock is left however long `h`. The cutting energy
     /// takes the trapezoidal rule over the step. Returns the end pose.
+    ///
+    /// At the start of the run (nothing cut yet) the start pose is cut first,
+    /// as Model Exchange's initial event does: the cutter pressed into the
+    /// rock at rest has made its imprint there.
     pub fn advance(&mut self, start: &Pose, twist: &Twist, h: f64) -> Result<Pose> {
         check_step(h)?;
         start.validate()?;
         twist.validate()?;
-        let n = sub_steps(start, twist, self.params.cutter.radius, h, &self.params);
-        let end = sweep(
-            &mut self.state.face,
-            std::slice::from_mut(&mut self.disc),
-            std::slice::from_mut(&mut self.state.disc),
-            &self.params,
-            &[(*start, *twist)],
-            h,
-            n,
-            |t| Ok(vec![(advance_pose(start, twist, t), *twist)]),
-        )?;
-        Ok(end[0].0)
+        let travel = rim_speed(start, twist, self.params.cutter.radius) * h;
+        let n = self.sub_steps(travel, "the step", h)?;
+        let along = |k: usize| advance_pose(start, twist, h * k as f64 / n as f64);
+        // the whole path is checked before anything changes
+        self.check_visits((1..=n).map(along), "the step", h)?;
+        self.transaction(|m| {
+            if m.state.last_cut.is_none() {
+                m.cut_at(start);
+                m.state.last_cut = Some(*start);
+            }
+            let o0 = m.evaluate(start, twist)?;
+            if m.params.chipping.enabled {
+                // a path that does not continue the last one starts here: chip
+                // boundaries count on from this pose, not from the first sub-step
+                let low = m.disc(start).lowest_point();
+                let max_step = m.chip_max_step();
+                let c = &mut m.state.chips;
+                if c.last_low
+                    .is_none_or(|p| (low.x - p[0]).hypot(low.y - p[1]) > max_step)
+                {
+                    c.last_low = Some(low.into());
+                }
+            }
+            let mut end = *start;
+            for k in 1..=n {
+                end = along(k);
+                m.cut_at(&end);
+            }
+            m.cache.set(None);
+            let o1 = m.evaluate(&end, twist)?;
+            m.state.cutting_energy += 0.5 * (o0.work_on_rock(twist, h) + o1.work_on_rock(twist, h));
+            m.state.last_cut = Some(end);
+            Ok(end)
+        })
     }
 
     /// A copy of the discrete state.
@@ -564,18 +793,21 @@ impl Model {
 
     /// Restores a state taken from a model with the same grid.
     pub fn set_state(&mut self, s: &ModelState) -> Result<()> {
-        if !s.face.same_grid(&self.state.face) {
+        if s.map.grid() != self.state.map.grid()
+            || s.map.base_height() != self.state.map.base_height()
+        {
             return Err(KerfError::BadState(
                 "the state was taken for another rock grid".into(),
             ));
         }
         self.state = s.clone();
-        self.disc.forget();
+        self.cache.set(None);
+        self.after_commit.set(None);
         Ok(())
     }
 
     /// Writes the committed surface as an `.rsf` file.
     pub fn write_surface(&self, path: &std::path::Path) -> Result<()> {
-        rsf::write(path, &self.state.face.map)
+        rsf::write(path, &self.state.map)
     }
 }

@@ -209,160 +209,162 @@ impl Default for Numerics {
     }
 }
 
-fn finite_positive(name: &'static str, v: f64) -> Result<()> {
-    if v.is_finite() && v > 0.0 {
+#[path = "bounds.rs"]
+mod bounds_table;
+pub use bounds_table::*;
+
+/// The allowed range `[min, max]` of a numeric parameter (by its FMI name).
+pub fn bounds(name: &str) -> Option<(f64, f64)> {
+    PARAMETER_BOUNDS
+        .iter()
+        .find(|(n, _, _)| *n == name)
+        .map(|&(_, lo, hi)| (lo, hi))
+}
+
+/// `value` within the bounds of `name` (NaN never is).
+pub fn check_bounds(name: &'static str, value: f64) -> Result<()> {
+    let (min, max) = bounds(name).expect("a parameter without a row in bounds.rs");
+    if value >= min && value <= max {
         Ok(())
     } else {
         Err(KerfError::BadParameter {
             name,
-            value: v,
-            why: "must be finite and positive",
+            value,
+            why: format!("outside its allowed range [{min:e}, {max:e}]").into(),
         })
     }
 }
 
-fn finite(name: &'static str, v: f64) -> Result<()> {
-    if v.is_finite() {
-        Ok(())
-    } else {
-        Err(KerfError::BadParameter {
-            name,
-            value: v,
-            why: "must be finite",
-        })
+fn rule(name: &'static str, value: f64, why: String) -> KerfError {
+    KerfError::BadParameter {
+        name,
+        value,
+        why: why.into(),
     }
 }
-
-/// Largest number of height-map nodes accepted (10^10): the map is sparse,
-/// but its tile directory is dense.
-pub const MAX_NODES: f64 = 1.0e10;
 
 impl Params {
-    /// Checks every parameter; the first violation is the error.
+    /// Checks every parameter against its bounds ([`PARAMETER_BOUNDS`]) and
+    /// the rules between parameters; the first violation is the error.
     pub fn validate(&self) -> Result<()> {
         let c = &self.cutter;
-        finite_positive("cutter.radius", c.radius)?;
-        finite_positive("cutter.tipWidth", c.tip_width)?;
-        finite_positive("cutter.tipRadius", c.tip_radius)?;
+        let s = &self.csm;
+        let f = &self.friction;
+        let r = &self.rock;
+        let n = &self.numerics;
+        let ch = &self.chipping;
+        for (name, v) in [
+            ("cutter.radius", c.radius),
+            ("cutter.tipWidth", c.tip_width),
+            ("cutter.tipRadius", c.tip_radius),
+            ("rock.ucs", s.ucs),
+            ("rock.bts", s.bts),
+            ("csm.C", s.c),
+            ("csm.spacing", s.spacing),
+            ("csm.psi", s.psi),
+            ("friction.mu", f.mu),
+            ("friction.vs", f.vs),
+            ("rock.xMin", r.x_min),
+            ("rock.xMax", r.x_max),
+            ("rock.yMin", r.y_min),
+            ("rock.yMax", r.y_max),
+            ("rock.nx", r.nx as f64),
+            ("rock.ny", r.ny as f64),
+            ("rock.z0", r.z0),
+            ("rock.plasticFraction", r.plastic_fraction),
+            ("numerics.tipSlices", n.tip_slices as f64),
+            ("numerics.arcStepCells", n.arc_step_cells),
+            ("numerics.elasticDepth", n.elastic_depth),
+            ("numerics.pReg", n.p_reg),
+            ("numerics.sweepStep", n.sweep_step),
+            ("chipping.kappa", ch.kappa),
+            ("chipping.length", ch.length),
+            ("chipping.lengthSpread", ch.length_spread),
+        ] {
+            check_bounds(name, v)?;
+        }
         if c.tip_width > 2.0 * c.tip_radius {
             return Err(KerfError::BadParameter {
                 name: "cutter.tipWidth",
                 value: c.tip_width,
-                why: "must not exceed 2 * cutter.tipRadius (the tip profile is a circle of that radius)",
+                why: "must not exceed 2 * cutter.tipRadius (the tip profile is a circle of that radius)".into(),
             });
         }
         if c.tip_radius >= c.radius {
             return Err(KerfError::BadParameter {
                 name: "cutter.tipRadius",
                 value: c.tip_radius,
-                why: "must be smaller than cutter.radius",
+                why: "must be smaller than cutter.radius".into(),
             });
         }
-        let s = &self.csm;
-        finite_positive("rock.ucs", s.ucs)?;
-        finite_positive("rock.bts", s.bts)?;
-        finite_positive("csm.C", s.c)?;
-        finite_positive("csm.spacing", s.spacing)?;
-        if !(s.psi.is_finite() && s.psi > -1.0) {
-            return Err(KerfError::BadParameter {
-                name: "csm.psi",
-                value: s.psi,
-                why: "must be finite and > -1",
-            });
-        }
-        let f = &self.friction;
-        if !(f.mu.is_finite() && f.mu >= 0.0) {
-            return Err(KerfError::BadParameter {
-                name: "friction.mu",
-                value: f.mu,
-                why: "must be finite and >= 0",
-            });
-        }
-        finite_positive("friction.vs", f.vs)?;
-        let r = &self.rock;
-        finite("rock.xMin", r.x_min)?;
-        finite("rock.xMax", r.x_max)?;
-        finite("rock.yMin", r.y_min)?;
-        finite("rock.yMax", r.y_max)?;
-        finite("rock.z0", r.z0)?;
-        if r.x_max <= r.x_min {
-            return Err(KerfError::BadParameter {
-                name: "rock.xMax",
-                value: r.x_max,
-                why: "must exceed rock.xMin",
-            });
-        }
-        if r.y_max <= r.y_min {
-            return Err(KerfError::BadParameter {
-                name: "rock.yMax",
-                value: r.y_max,
-                why: "must exceed rock.yMin",
-            });
-        }
-        if r.nx < 2 {
-            return Err(KerfError::BadParameter {
-                name: "rock.nx",
-                value: r.nx as f64,
-                why: "needs at least 2 nodes",
-            });
-        }
-        if r.ny < 2 {
-            return Err(KerfError::BadParameter {
-                name: "rock.ny",
-                value: r.ny as f64,
-                why: "needs at least 2 nodes",
-            });
-        }
-        if (r.nx as f64) * (r.ny as f64) > MAX_NODES {
-            return Err(KerfError::BadParameter {
-                name: "rock.nx",
-                value: r.nx as f64,
-                why: "rock.nx * rock.ny exceeds 1e10 nodes",
-            });
-        }
-        if !(r.plastic_fraction.is_finite()
-            && r.plastic_fraction > 0.0
-            && r.plastic_fraction <= 1.0)
-        {
-            return Err(KerfError::BadParameter {
-                name: "rock.plasticFraction",
-                value: r.plastic_fraction,
-                why: "must lie in (0, 1]",
-            });
-        }
-        let n = &self.numerics;
-        if n.tip_slices < 3 || n.tip_slices.is_multiple_of(2) || n.tip_slices > 101 {
+        if n.tip_slices.is_multiple_of(2) {
             return Err(KerfError::BadParameter {
                 name: "numerics.tipSlices",
                 value: n.tip_slices as f64,
-                why: "must be odd, between 3 and 101",
+                why: "must be odd, between 3 and 101".into(),
             });
         }
-        finite_positive("numerics.arcStepCells", n.arc_step_cells)?;
-        finite_positive("numerics.elasticDepth", n.elastic_depth)?;
-        finite_positive("numerics.pReg", n.p_reg)?;
-        finite_positive("numerics.sweepStep", n.sweep_step)?;
-        let ch = &self.chipping;
-        if !(ch.kappa.is_finite() && (1.0..=100.0).contains(&ch.kappa)) {
-            return Err(KerfError::BadParameter {
-                name: "chipping.kappa",
-                value: ch.kappa,
-                why: "must lie in [1, 100] (crack reach over groove depth)",
-            });
+        let nodes = (r.nx as f64) * (r.ny as f64);
+        if nodes > MAX_NODES {
+            return Err(rule(
+                "rock.nx",
+                r.nx as f64,
+                format!(
+                    "rock.nx * rock.ny = {nodes:e} nodes exceeds the budget of {MAX_NODES:e}: coarser cells or a smaller face"
+                ),
+            ));
         }
-        if !(ch.length.is_finite() && (1e-3..=1.0).contains(&ch.length)) {
-            return Err(KerfError::BadParameter {
-                name: "chipping.length",
-                value: ch.length,
-                why: "must lie in [0.001, 1] m",
-            });
+        let dx = (r.x_max - r.x_min) / (r.nx - 1) as f64;
+        let dy = (r.y_max - r.y_min) / (r.ny - 1) as f64;
+        for (name, lo, hi, cell, count) in [
+            ("rock.xMax", r.x_min, r.x_max, dx, "rock.nx"),
+            ("rock.yMax", r.y_min, r.y_max, dy, "rock.ny"),
+        ] {
+            if hi <= lo {
+                return Err(rule(name, hi, format!("must exceed the lower edge {lo}")));
+            }
+            if cell < MIN_CELL {
+                return Err(rule(
+                    name,
+                    hi,
+                    format!(
+                        "the cells are {cell:e} m along this axis, under the smallest {MIN_CELL:e} m: fewer nodes ({count}) or a longer face"
+                    ),
+                ));
+            }
         }
-        if !(ch.length_spread.is_finite() && (0.0..=0.95).contains(&ch.length_spread)) {
-            return Err(KerfError::BadParameter {
-                name: "chipping.lengthSpread",
-                value: ch.length_spread,
-                why: "must lie in [0, 0.95]",
-            });
+        let cell = dx.min(dy);
+        let disc_nodes = ((2.0 * c.radius / dx + 3.0).min(r.nx as f64))
+            * ((2.0 * c.radius / dy + 3.0).min(r.ny as f64));
+        if disc_nodes > MAX_DISC_NODES {
+            return Err(rule(
+                "cutter.radius",
+                c.radius,
+                format!(
+                    "the disc covers {disc_nodes:e} height-map nodes, more than the {MAX_DISC_NODES:e} one cut may scan: coarser cells or a smaller disc"
+                ),
+            ));
+        }
+        let arc_steps =
+            n.tip_slices as f64 * std::f64::consts::PI * c.radius / (n.arc_step_cells * cell);
+        if arc_steps > MAX_ARC_STEPS {
+            return Err(rule(
+                "numerics.arcStepCells",
+                n.arc_step_cells,
+                format!(
+                    "one evaluation would walk {arc_steps:e} arc steps (numerics.tipSlices * pi * cutter.radius / (arcStepCells * cell)), more than {MAX_ARC_STEPS:e}: a larger arc step, fewer tip slices or coarser cells"
+                ),
+            ));
+        }
+        if n.sweep_step < MIN_SWEEP_STEP_CELLS * cell {
+            return Err(rule(
+                "numerics.sweepStep",
+                n.sweep_step,
+                format!(
+                    "must be at least {MIN_SWEEP_STEP_CELLS} cells = {:e} m (cells are {cell:e} m)",
+                    MIN_SWEEP_STEP_CELLS * cell
+                ),
+            ));
         }
         Ok(())
     }

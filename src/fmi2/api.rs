@@ -15,8 +15,10 @@
 //! number in most cases, but cannot be detected in all.
 #![allow(clippy::missing_safety_doc, non_snake_case)]
 
-use std::ffi::{c_char, c_void, CStr, CString};
+use std::collections::BTreeMap;
+use std::ffi::{c_char, c_void, CStr};
 use std::ptr;
+use std::sync::Mutex;
 
 use fmi_sys::fmi2::*;
 
@@ -58,14 +60,50 @@ unsafe fn instance<'a>(c: fmi2Component) -> Option<&'a mut InstanceBox> {
     (b.magic == INSTANCE_MAGIC).then_some(b)
 }
 
-/// The snapshot behind `s`, if it looks like one of ours.
+/// Every FMU state this library made and has not freed yet (its address),
+/// with the instance that made it: fmi2FreeInstance frees what its instance
+/// left, and a pointer that is not here (freed, forged) is never read.
+static STATES: Mutex<BTreeMap<usize, usize>> = Mutex::new(BTreeMap::new());
+
+fn states() -> std::sync::MutexGuard<'static, BTreeMap<usize, usize>> {
+    // the map stays consistent whatever panicked while it was held
+    STATES.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// A new FMU state owned by instance `c`.
+fn new_state(c: fmi2Component, snap: AnySnapshot) -> fmi2FMUstate {
+    let p = Box::into_raw(Box::new(StateBox {
+        magic: STATE_MAGIC,
+        snap,
+    }));
+    states().insert(p as usize, c as usize);
+    p.cast::<c_void>()
+}
+
+/// Frees an FMU state made by [`new_state`] (and not freed since).
+fn free_state(s: fmi2FMUstate) {
+    if states().remove(&(s as usize)).is_some() {
+        // SAFETY: it was in STATES, so it came from Box::into_raw in
+        // `new_state` and was not freed (removal from STATES is the free).
+        let mut b = unsafe { Box::from_raw(s.cast::<StateBox>()) };
+        b.magic = 0;
+    }
+}
+
+/// How many FMU states instance `c` made that are not freed yet (for tests
+/// of fmi2FreeInstance; `c` is only compared, never read).
+#[doc(hidden)]
+pub fn fmu_states_of(c: fmi2Component) -> usize {
+    states().values().filter(|&&o| o == c as usize).count()
+}
+
+/// The snapshot behind `s`, if it is a live one of ours.
 ///
 /// # Safety
-/// `s` is NULL or a pointer from fmi2GetFMUstate / fmi2DeSerializeFMUstate
-/// that was not freed yet.
+/// No other thread frees `s` during the call (FMI 2.0 rules).
 unsafe fn snapshot<'a>(s: fmi2FMUstate) -> Option<&'a mut StateBox> {
     let b = s.cast::<StateBox>();
-    if b.is_null() || !b.is_aligned() {
+    if b.is_null() || !b.is_aligned() || !states().contains_key(&(s as usize)) {
         return None;
     }
     // SAFETY: by the contract above, `b` points to a live StateBox.
@@ -183,7 +221,8 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     with(c, F, |i| {
         // SAFETY: `categories` has `nCategories` entries (FMI contract).
         let cats = unsafe { input(categories, nCategories, F, "categories") }?;
-        let mut names = Vec::with_capacity(cats.len());
+        // grows with what is read, never sized from nCategories
+        let mut names = Vec::new();
         for &p in cats {
             // SAFETY: each entry is NULL or a NUL-terminated string.
             let s = unsafe { c_str(p) }.ok_or_else(|| format!("{F}: a category is NULL"))?;
@@ -293,6 +332,14 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
     // the host never uses it again, so taking the Box back is sound.
     if let Some(b) = unsafe { instance(c) } {
         b.magic = 0;
+        // FMI 2.0: the instance frees everything it allocated, the FMU
+        // states the host did not free included
+        let left: Vec<usize> = states()
+            .iter()
+            .filter(|(_, &owner)| owner == c as usize)
+            .map(|(&s, _)| s)
+            .collect();
+        let _ = guarded(|| left.into_iter().for_each(|s| free_state(s as fmi2FMUstate)));
         // SAFETY: made by Box::into_raw in fmi2Instantiate; `b` is not used after this.
         let b = unsafe { Box::from_raw(b as *mut InstanceBox) };
         let _ = guarded(move || drop(b));
@@ -362,10 +409,7 @@ pub unsafe extern "C" fn fmi2GetReal(
     with(c, F, |i| {
         // SAFETY: `vr` and `value` have `nvr` elements (FMI contract).
         let (vrs, out) = unsafe { (input(vr, nvr, F, "vr")?, output(value, nvr, F, "value")?) };
-        let mut tmp = vec![0.0; nvr];
-        let s = i.get_real(vrs, &mut tmp)?;
-        out.copy_from_slice(&tmp);
-        Ok(s)
+        i.get_real(vrs, out)
     })
 }
 const _: fmi2GetRealTYPE = Some(fmi2GetReal);
@@ -381,10 +425,7 @@ pub unsafe extern "C" fn fmi2GetInteger(
     with(c, F, |i| {
         // SAFETY: `vr` and `value` have `nvr` elements (FMI contract).
         let (vrs, out) = unsafe { (input(vr, nvr, F, "vr")?, output(value, nvr, F, "value")?) };
-        let mut tmp = vec![0; nvr];
-        let s = i.get_integer(vrs, &mut tmp)?;
-        out.copy_from_slice(&tmp);
-        Ok(s)
+        i.get_integer(vrs, out)
     })
 }
 const _: fmi2GetIntegerTYPE = Some(fmi2GetInteger);
@@ -400,12 +441,15 @@ pub unsafe extern "C" fn fmi2GetBoolean(
     with(c, F, |i| {
         // SAFETY: `vr` and `value` have `nvr` elements (FMI contract).
         let (vrs, out) = unsafe { (input(vr, nvr, F, "vr")?, output(value, nvr, F, "value")?) };
-        let mut tmp = vec![false; nvr];
-        let s = i.get_boolean(vrs, &mut tmp)?;
-        for (o, b) in out.iter_mut().zip(tmp) {
-            *o = fmi2Boolean::from(b);
+        // in chunks on the stack: nothing is allocated from `nvr`
+        let mut tmp = [false; 64];
+        for (vrs, out) in vrs.chunks(64).zip(out.chunks_mut(64)) {
+            i.get_boolean(vrs, &mut tmp[..vrs.len()])?;
+            for (o, &b) in out.iter_mut().zip(&tmp) {
+                *o = fmi2Boolean::from(b);
+            }
         }
-        Ok(s)
+        Ok(Status::Ok)
     })
 }
 const _: fmi2GetBooleanTYPE = Some(fmi2GetBoolean);
@@ -421,9 +465,7 @@ pub unsafe extern "C" fn fmi2GetString(
     with(c, F, |i| {
         // SAFETY: `vr` and `value` have `nvr` elements (FMI contract).
         let (vrs, out) = unsafe { (input(vr, nvr, F, "vr")?, output(value, nvr, F, "value")?) };
-        let ptrs = i.get_string(vrs)?;
-        out.copy_from_slice(&ptrs);
-        Ok(Status::Ok)
+        i.get_string(vrs, out)
     })
 }
 const _: fmi2GetStringTYPE = Some(fmi2GetString);
@@ -471,8 +513,7 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     with(c, F, |i| {
         // SAFETY: `vr` and `value` have `nvr` elements (FMI contract).
         let (vrs, vals) = unsafe { (input(vr, nvr, F, "vr")?, input(value, nvr, F, "value")?) };
-        let vals: Vec<bool> = vals.iter().map(|&b| b != 0).collect();
-        i.set_boolean(vrs, &vals)
+        i.set_boolean(vrs, vals)
     })
 }
 const _: fmi2SetBooleanTYPE = Some(fmi2SetBoolean);
@@ -488,13 +529,8 @@ pub unsafe extern "C" fn fmi2SetString(
     with(c, F, |i| {
         // SAFETY: `vr` and `value` have `nvr` elements (FMI contract).
         let (vrs, vals) = unsafe { (input(vr, nvr, F, "vr")?, input(value, nvr, F, "value")?) };
-        let mut owned = Vec::with_capacity(vals.len());
-        for &p in vals {
-            // SAFETY: each entry is NULL or a NUL-terminated string.
-            let s = unsafe { c_str(p) }.ok_or_else(|| format!("{F}: a value is NULL"))?;
-            owned.push(CString::from(s));
-        }
-        i.set_string(vrs, owned)
+        // SAFETY: each entry is NULL or a NUL-terminated string.
+        i.set_string(vrs, &|k| unsafe { c_str(vals[k]) })
     })
 }
 const _: fmi2SetStringTYPE = Some(fmi2SetString);
@@ -515,11 +551,7 @@ pub unsafe extern "C" fn fmi2GetFMUstate(
         let slot = unsafe { out_one(FMUstate, F, "FMUstate") }?;
         let snap = i.snapshot();
         if slot.is_null() {
-            *slot = Box::into_raw(Box::new(StateBox {
-                magic: STATE_MAGIC,
-                snap,
-            }))
-            .cast::<c_void>();
+            *slot = new_state(c, snap);
         } else {
             // FMI 2.0: a non-NULL state from an earlier call is overwritten.
             // SAFETY: non-null states come from this FMU (FMI contract).
@@ -558,12 +590,10 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
         if slot.is_null() {
             return Ok(Status::Ok);
         }
-        // SAFETY: non-null states come from this FMU and are freed once.
-        let b = unsafe { snapshot(*slot) }
-            .ok_or_else(|| format!("{F}: *FMUstate is not an FMU state of kerf"))?;
-        b.magic = 0;
-        // SAFETY: made by Box::into_raw in this module; the host gives it up now.
-        drop(unsafe { Box::from_raw(b as *mut StateBox) });
+        // SAFETY: checked against the live states before it is read.
+        unsafe { snapshot(*slot) }
+            .ok_or_else(|| format!("{F}: *FMUstate is not a live FMU state of kerf"))?;
+        free_state(*slot);
         *slot = ptr::null_mut();
         Ok(Status::Ok)
     })
@@ -648,11 +678,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
         kind_check(i, F, snap.kind()).map_err(|_| {
             format!("{F}: state rejected: it was taken from another interface type")
         })?;
-        *slot = Box::into_raw(Box::new(StateBox {
-            magic: STATE_MAGIC,
-            snap,
-        }))
-        .cast::<c_void>();
+        *slot = new_state(c, snap);
         Ok(Status::Ok)
     })
 }
@@ -795,14 +821,12 @@ pub unsafe extern "C" fn fmi2GetEventIndicators(
     eventIndicators: *mut fmi2Real,
     ni: usize,
 ) -> fmi2Status {
-    let _ = eventIndicators;
-    with(c, "fmi2GetEventIndicators", |i| {
-        i.no_states(
-            "fmi2GetEventIndicators",
-            mask::GET_EVENT_INDICATORS,
-            ni,
-            "ni",
-        )
+    const F: &str = "fmi2GetEventIndicators";
+    with(c, F, |i| {
+        // SAFETY: the host passes ni writable fmi2Reals (checked against the
+        // model's count before anything is written).
+        let out = unsafe { output(eventIndicators, ni, F, "eventIndicators") }?;
+        i.get_event_indicators(out)
     })
 }
 const _: fmi2GetEventIndicatorsTYPE = Some(fmi2GetEventIndicators);

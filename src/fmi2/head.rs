@@ -547,15 +547,14 @@ impl HeadInstance {
         Ok(Status::Ok)
     }
 
-    pub fn get_string(&mut self, vrs: &[u32]) -> Res<Vec<*const std::ffi::c_char>> {
+    pub fn get_string(&mut self, vrs: &[u32], out: &mut [*const std::ffi::c_char]) -> Res<Status> {
         self.check("fmi2GetString", mask::GET)?;
-        vrs.iter()
-            .map(|&r| {
-                self.var("fmi2GetString", 3, r, "a String")?;
-                let i = md::position(md::STRINGS, r, |x| x.vr).unwrap();
-                Ok(self.values.kerf.string[i].as_ptr())
-            })
-            .collect()
+        for (k, &r) in vrs.iter().enumerate() {
+            self.var("fmi2GetString", 3, r, "a String")?;
+            let i = md::position(md::STRINGS, r, |x| x.vr).unwrap();
+            out[k] = self.values.kerf.string[i].as_ptr();
+        }
+        Ok(Status::Ok)
     }
 
     fn settable(&self, func: &str, v: &HeadVar, continuous: bool) -> Res<()> {
@@ -660,7 +659,7 @@ impl HeadInstance {
         Ok(Status::Ok)
     }
 
-    pub fn set_boolean(&mut self, vrs: &[u32], vals: &[bool]) -> Res<Status> {
+    pub fn set_boolean(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status> {
         self.check("fmi2SetBoolean", mask::SET_OTHER)?;
         let mut idx = Vec::new();
         for &r in vrs {
@@ -669,30 +668,54 @@ impl HeadInstance {
             idx.push(md::position(md::BOOLEANS, r, |x| x.vr).unwrap());
         }
         for (i, &x) in idx.into_iter().zip(vals) {
-            self.values.kerf.boolean[i] = x;
+            self.values.kerf.boolean[i] = x != 0;
         }
         self.cache = None;
         Ok(Status::Ok)
     }
 
-    pub fn set_string(&mut self, vrs: &[u32], vals: Vec<CString>) -> Res<Status> {
+    /// `val(k)`: the k-th value (`None`: the host passed NULL).
+    pub fn set_string<'a>(
+        &mut self,
+        vrs: &[u32],
+        val: &dyn Fn(usize) -> Option<&'a std::ffi::CStr>,
+    ) -> Res<Status> {
         self.check("fmi2SetString", mask::SET_OTHER)?;
         let mut idx = Vec::new();
-        for (&r, x) in vrs.iter().zip(&vals) {
+        for (k, &r) in vrs.iter().enumerate() {
             let v = self.var("fmi2SetString", 3, r, "a String")?;
             self.settable("fmi2SetString", v, false)?;
+            let x =
+                val(k).ok_or_else(|| format!("fmi2SetString: the value of {} is NULL", v.name))?;
             if x.to_str().is_err() {
                 return Err(format!(
                     "fmi2SetString: the value of {} is not UTF-8",
                     v.name
                 ));
             }
-            idx.push(md::position(md::STRINGS, r, |x| x.vr).unwrap());
+            idx.push((
+                md::position(md::STRINGS, r, |x| x.vr).unwrap(),
+                x.to_owned(),
+            ));
         }
-        for (i, x) in idx.into_iter().zip(vals) {
+        for (i, x) in idx {
             self.values.kerf.string[i] = x;
         }
         self.cache = None;
+        Ok(Status::Ok)
+    }
+
+    /// The head has no event indicators (its discs' cuts are step events).
+    pub fn get_event_indicators(&self, out: &mut [f64]) -> Res<Status> {
+        const F: &str = "fmi2GetEventIndicators";
+        self.check_kind(F, Kind::ModelExchange)?;
+        self.check(F, mask::GET_EVENT_INDICATORS)?;
+        if !out.is_empty() {
+            return Err(format!(
+                "{F}: ni = {}, but the head has none (0)",
+                out.len()
+            ));
+        }
         Ok(Status::Ok)
     }
 

@@ -3,7 +3,7 @@
 //! [`Component`]; `fmi2Instantiate` picks the kind by the GUID (kerf's, or
 //! the one in a head FMU's `resources/head.json`).
 
-use std::ffi::{c_char, CString};
+use std::ffi::{c_char, CStr};
 
 use super::head::{HeadInstance, HeadSnapshot};
 use super::instance::{EventInfo, Instance, Kind, Mode, Res, Snapshot};
@@ -40,11 +40,17 @@ pub trait Component {
     fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Res<Status>;
     fn get_integer(&mut self, vrs: &[u32], out: &mut [i32]) -> Res<Status>;
     fn get_boolean(&mut self, vrs: &[u32], out: &mut [bool]) -> Res<Status>;
-    fn get_string(&mut self, vrs: &[u32]) -> Res<Vec<*const c_char>>;
+    fn get_string(&mut self, vrs: &[u32], out: &mut [*const c_char]) -> Res<Status>;
     fn set_real(&mut self, vrs: &[u32], vals: &[f64]) -> Res<Status>;
     fn set_integer(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status>;
-    fn set_boolean(&mut self, vrs: &[u32], vals: &[bool]) -> Res<Status>;
-    fn set_string(&mut self, vrs: &[u32], vals: Vec<CString>) -> Res<Status>;
+    fn set_boolean(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status>;
+    /// `val(k)`: the k-th value (`None`: the host passed NULL).
+    fn set_string<'a>(
+        &mut self,
+        vrs: &[u32],
+        val: &dyn Fn(usize) -> Option<&'a CStr>,
+    ) -> Res<Status>;
+    fn get_event_indicators(&self, out: &mut [f64]) -> Res<Status>;
     fn snapshot(&self) -> AnySnapshot;
     fn restore(&mut self, s: &AnySnapshot) -> Res<Status>;
     /// The serialized form of `s` (made once, kept in the snapshot).
@@ -105,8 +111,8 @@ macro_rules! delegate {
         fn get_boolean(&mut self, vrs: &[u32], out: &mut [bool]) -> Res<Status> {
             Self::get_boolean(self, vrs, out)
         }
-        fn get_string(&mut self, vrs: &[u32]) -> Res<Vec<*const c_char>> {
-            Self::get_string(self, vrs)
+        fn get_string(&mut self, vrs: &[u32], out: &mut [*const c_char]) -> Res<Status> {
+            Self::get_string(self, vrs, out)
         }
         fn set_real(&mut self, vrs: &[u32], vals: &[f64]) -> Res<Status> {
             Self::set_real(self, vrs, vals)
@@ -114,11 +120,18 @@ macro_rules! delegate {
         fn set_integer(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status> {
             Self::set_integer(self, vrs, vals)
         }
-        fn set_boolean(&mut self, vrs: &[u32], vals: &[bool]) -> Res<Status> {
+        fn set_boolean(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status> {
             Self::set_boolean(self, vrs, vals)
         }
-        fn set_string(&mut self, vrs: &[u32], vals: Vec<CString>) -> Res<Status> {
-            Self::set_string(self, vrs, vals)
+        fn set_string<'a>(
+            &mut self,
+            vrs: &[u32],
+            val: &dyn Fn(usize) -> Option<&'a CStr>,
+        ) -> Res<Status> {
+            Self::set_string(self, vrs, val)
+        }
+        fn get_event_indicators(&self, out: &mut [f64]) -> Res<Status> {
+            Self::get_event_indicators(self, out)
         }
         fn enter_event_mode(&mut self) -> Res<Status> {
             Self::enter_event_mode(self)

@@ -12,7 +12,10 @@ use std::path::{Path, PathBuf};
 use crate::core::params::{
     ChipParams, CsmParams, CutterParams, FrictionParams, Numerics, RockParams,
 };
-use crate::core::{CsmVariant, DirectionRule, Model, ModelState, Outputs, Params, Pose, Twist};
+use crate::core::{
+    rim_speed, rim_spin_speed, CsmVariant, DirectionRule, Model, ModelState, Outputs, Params, Pose,
+    Twist,
+};
 
 use super::log::{Category, Logger, Status};
 use super::md::{self, vr, Causality};
@@ -157,6 +160,19 @@ pub mod mask {
 
 /// Relative tolerance between the host's communication point and the FMU's time.
 const TIME_TOLERANCE: f64 = 1e-9;
+
+/// Model Exchange: fmi2CompletedIntegratorStep asks for an event when the
+/// event indicator is at or below this fraction of `numerics.sweepStep`. It
+/// covers round-off for hosts whose fixed steps travel exactly one sweep step,
+/// and is far too small for a variable-step solver's internal steps to land
+/// in by chance (their events come from the indicator's zero crossing).
+pub const EVENT_SLACK: f64 = 1e-6;
+
+/// Model Exchange: the time event fmi2NewDiscreteStates schedules comes after
+/// this many sweep steps of travel at the current speed. It is a backstop for
+/// hosts that act on neither the event indicator nor the step-event flag:
+/// every other host has its event at one sweep step, which schedules the next.
+pub const TIME_EVENT_SWEEPS: f64 = 2.0;
 
 pub type Res<T> = Result<T, String>;
 
@@ -380,7 +396,8 @@ fn resolve_input_path(s: &str, resources: Option<&Path>, files: Files) -> Res<St
     }
     let mut why = String::new();
     for c in &candidates {
-        match std::fs::File::open(c).and_then(|f| f.metadata()) {
+        // the type first, without opening: opening a FIFO blocks
+        match std::fs::metadata(c) {
             Ok(m) if m.is_file() => return Ok(c.to_string_lossy().into_owned()),
             Ok(_) => why = format!("{} is not a regular file", c.display()),
             Err(e) => {
@@ -648,7 +665,6 @@ impl Instance {
 
     pub fn terminate(&mut self) -> Res<Status> {
         self.check("fmi2Terminate", mask::TERMINATE)?;
-        self.mode = Terminated;
         let path = self
             .model_params
             .as_ref()
@@ -661,6 +677,8 @@ impl Instance {
                 self.log_event(|| format!("rock surface written to {path}"));
             }
         }
+        // after the file: a refused write leaves the instance as it was
+        self.mode = Terminated;
         Ok(Status::Ok)
     }
 
@@ -776,16 +794,15 @@ impl Instance {
 
     /// The strings stay owned by the instance (valid until they are set again
     /// or the instance is reset or freed, as FMI 2.0 allows).
-    pub fn get_string(&mut self, vrs: &[u32]) -> Res<Vec<*const std::ffi::c_char>> {
+    pub fn get_string(&mut self, vrs: &[u32], out: &mut [*const std::ffi::c_char]) -> Res<Status> {
         self.check("fmi2GetString", mask::GET)?;
-        vrs.iter()
-            .map(|&r| {
-                let i = md::position(md::STRINGS, r, |v| v.vr).ok_or_else(|| {
-                    format!("fmi2GetString: {r} is not the value reference of a String")
-                })?;
-                Ok(self.values.string[i].as_ptr())
-            })
-            .collect()
+        for (o, &r) in out.iter_mut().zip(vrs) {
+            let i = md::position(md::STRINGS, r, |v| v.vr).ok_or_else(|| {
+                format!("fmi2GetString: {r} is not the value reference of a String")
+            })?;
+            *o = self.values.string[i].as_ptr();
+        }
+        Ok(Status::Ok)
     }
 
     /// May a variable of this causality be set now?
@@ -816,14 +833,16 @@ impl Instance {
         }
     }
 
-    /// All-or-nothing: checks every value first.
+    /// All-or-nothing: checks every value first, then sets them (two passes
+    /// over the host's arrays: nothing is allocated from `nvr`).
     pub fn set_real(&mut self, vrs: &[u32], vals: &[f64]) -> Res<Status> {
         self.check("fmi2SetReal", mask::SET_REAL)?;
-        let mut idx = Vec::with_capacity(vrs.len());
+        let find = |r: u32| {
+            md::position(md::REALS, r, |v| v.vr)
+                .ok_or_else(|| format!("fmi2SetReal: {r} is not the value reference of a Real"))
+        };
         for (&r, &v) in vrs.iter().zip(vals) {
-            let i = md::position(md::REALS, r, |v| v.vr)
-                .ok_or_else(|| format!("fmi2SetReal: {r} is not the value reference of a Real"))?;
-            let var = &md::REALS[i];
+            let var = &md::REALS[find(r)?];
             self.settable("fmi2SetReal", var.name, var.causality, true)?;
             if !v.is_finite() {
                 return Err(format!(
@@ -831,9 +850,9 @@ impl Instance {
                     var.name
                 ));
             }
-            idx.push(i);
         }
-        for (&i, &v) in idx.iter().zip(vals) {
+        for (&r, &v) in vrs.iter().zip(vals) {
+            let i = find(r)?;
             let var = &md::REALS[i];
             self.values.real[i] = v;
             if var.causality == Causality::Input {
@@ -851,14 +870,15 @@ impl Instance {
 
     pub fn set_integer(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status> {
         self.check("fmi2SetInteger", mask::SET_OTHER)?;
-        let mut idx = Vec::with_capacity(vrs.len());
-        for (&r, &v) in vrs.iter().zip(vals) {
-            let i = md::position(md::INTEGERS, r, |v| v.vr).ok_or_else(|| {
+        let find = |r: u32| {
+            md::position(md::INTEGERS, r, |v| v.vr).ok_or_else(|| {
                 format!(
                     "fmi2SetInteger: {r} is not the value reference of an Integer or Enumeration"
                 )
-            })?;
-            let var = &md::INTEGERS[i];
+            })
+        };
+        for (&r, &v) in vrs.iter().zip(vals) {
+            let var = &md::INTEGERS[find(r)?];
             self.settable("fmi2SetInteger", var.name, var.causality, false)?;
             if let Some(items) = var.items {
                 if !items.contains(&v) {
@@ -868,55 +888,144 @@ impl Instance {
                     ));
                 }
             }
-            idx.push(i);
         }
-        for (&i, &v) in idx.iter().zip(vals) {
+        for (&r, &v) in vrs.iter().zip(vals) {
+            let i = find(r)?;
             self.values.int[i] = v;
         }
         Ok(Status::Ok)
     }
 
-    pub fn set_boolean(&mut self, vrs: &[u32], vals: &[bool]) -> Res<Status> {
+    /// `vals`: fmi2Boolean values (0 is false).
+    pub fn set_boolean(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status> {
         self.check("fmi2SetBoolean", mask::SET_OTHER)?;
-        let mut idx = Vec::with_capacity(vrs.len());
-        for &r in vrs {
-            let i = md::position(md::BOOLEANS, r, |v| v.vr).ok_or_else(|| {
+        let find = |r: u32| {
+            md::position(md::BOOLEANS, r, |v| v.vr).ok_or_else(|| {
                 format!("fmi2SetBoolean: {r} is not the value reference of a Boolean")
-            })?;
-            let var = &md::BOOLEANS[i];
+            })
+        };
+        for &r in vrs {
+            let var = &md::BOOLEANS[find(r)?];
             self.settable("fmi2SetBoolean", var.name, var.causality, false)?;
-            idx.push(i);
         }
-        for (&i, &v) in idx.iter().zip(vals) {
-            self.values.boolean[i] = v;
+        for (&r, &v) in vrs.iter().zip(vals) {
+            let i = find(r)?;
+            self.values.boolean[i] = v != 0;
         }
         Ok(Status::Ok)
     }
 
-    pub fn set_string(&mut self, vrs: &[u32], vals: Vec<CString>) -> Res<Status> {
+    /// `val(k)`: the k-th value (`None`: the host passed NULL).
+    pub fn set_string<'a>(
+        &mut self,
+        vrs: &[u32],
+        val: impl Fn(usize) -> Option<&'a std::ffi::CStr>,
+    ) -> Res<Status> {
         self.check("fmi2SetString", mask::SET_OTHER)?;
-        let mut idx = Vec::with_capacity(vrs.len());
-        for (&r, v) in vrs.iter().zip(&vals) {
-            let i = md::position(md::STRINGS, r, |v| v.vr).ok_or_else(|| {
-                format!("fmi2SetString: {r} is not the value reference of a String")
-            })?;
-            let var = &md::STRINGS[i];
+        let find = |r: u32| {
+            md::position(md::STRINGS, r, |v| v.vr)
+                .ok_or_else(|| format!("fmi2SetString: {r} is not the value reference of a String"))
+        };
+        for (k, &r) in vrs.iter().enumerate() {
+            let var = &md::STRINGS[find(r)?];
             self.settable("fmi2SetString", var.name, var.causality, false)?;
+            let v = val(k)
+                .ok_or_else(|| format!("fmi2SetString: the value of {} is NULL", var.name))?;
             if v.to_str().is_err() {
                 return Err(format!(
                     "fmi2SetString: the value of {} is not UTF-8",
                     var.name
                 ));
             }
-            idx.push(i);
         }
-        for (i, v) in idx.into_iter().zip(vals) {
-            self.values.string[i] = v;
+        for (k, &r) in vrs.iter().enumerate() {
+            let i = find(r)?;
+            if let Some(v) = val(k) {
+                self.values.string[i] = v.to_owned();
+            }
         }
         Ok(Status::Ok)
     }
 
     // ---- Model Exchange -------------------------------------------------
+
+    /// The event indicator: `numerics.sweepStep` minus the rim travel since
+    /// the last committed cut. Positive while the cutter is within one sweep
+    /// step of the cut, zero when it has travelled a sweep step. The travel is
+    /// the larger of the pose's (from the last cut's pose to the current pose
+    /// inputs) and the rim's spin about the axle since the last commit (which
+    /// the pose does not show: a disc spinning in place does friction work
+    /// that the energy must book). Evaluated without changing anything;
+    /// `sweepStep` itself before the first cut.
+    pub fn event_indicator(&self) -> f64 {
+        let step = self.values.real(vr::NUMERICS_SWEEP_STEP);
+        let pose = self.values.pose();
+        let Some(travel) = self.model.as_ref().and_then(|m| m.travel_since_cut(&pose)) else {
+            return step;
+        };
+        let radius = self.values.real(vr::CUTTER_RADIUS);
+        let spin = rim_spin_speed(&pose, &self.values.twist(), radius)
+            * (self.time - self.last_commit_time);
+        step - travel.max(spin)
+    }
+
+    pub fn get_event_indicators(&self, out: &mut [f64]) -> Res<Status> {
+        const F: &str = "fmi2GetEventIndicators";
+        self.check_kind(F, Kind::ModelExchange)?;
+        self.check(F, mask::GET_EVENT_INDICATORS)?;
+        if out.len() != md::NUMBER_OF_EVENT_INDICATORS {
+            return Err(format!(
+                "{F}: ni = {}, but the model has {}",
+                out.len(),
+                md::NUMBER_OF_EVENT_INDICATORS
+            ));
+        }
+        out[0] = self.event_indicator();
+        Ok(Status::Ok)
+    }
+
+    /// Commits the cut of the current pose (the rock, the energy since the
+    /// last commit), once per event.
+    fn commit_cut(&mut self, func: &str) -> Res<()> {
+        if self.event_committed {
+            return Ok(());
+        }
+        let pose = self.values.pose();
+        let twist = self.values.twist();
+        pose.validate().map_err(|e| format!("{func}: {e}"))?;
+        twist.validate().map_err(|e| format!("{func}: {e}"))?;
+        let dt = self.time - self.last_commit_time;
+        let model = self.model.as_mut().ok_or(format!("{func}: no model"))?;
+        match model.commit(&pose, &twist, dt) {
+            Ok(changed) => {
+                self.last_commit_time = self.time;
+                self.event_committed = true;
+                self.cache = None;
+                if changed {
+                    self.log_event(|| format!("t = {}: rock cut committed (dt = {dt})", self.time));
+                }
+                Ok(())
+            }
+            // the commit is all or nothing: the instance is as it was
+            Err(e) => Err(format!("{func}: committing the cut failed: {e}")),
+        }
+    }
+
+    /// The backstop time event (see [`TIME_EVENT_SWEEPS`]): when the cutter,
+    /// at the current speed, will have travelled that many sweep steps since
+    /// the last cut. None when it does not move. If the speed changes the
+    /// time is only early (an event that commits a shorter path) or late (the
+    /// commit cuts the longer path in sweep-step sub-steps): the cuts stay on
+    /// the path either way.
+    fn backstop_event_time(&self) -> Option<f64> {
+        let step = self.values.real(vr::NUMERICS_SWEEP_STEP);
+        let radius = self.values.real(vr::CUTTER_RADIUS);
+        let (pose, twist) = (self.values.pose(), self.values.twist());
+        let speed = rim_speed(&pose, &twist, radius).max(rim_spin_speed(&pose, &twist, radius));
+        let left = self.event_indicator() + (TIME_EVENT_SWEEPS - 1.0) * step;
+        let t = self.time + left / speed;
+        (speed > 0.0 && left > 0.0 && t.is_finite() && t > self.time).then_some(t)
+    }
 
     pub fn enter_event_mode(&mut self) -> Res<Status> {
         self.check_kind("fmi2EnterEventMode", Kind::ModelExchange)?;
@@ -932,39 +1041,11 @@ impl Instance {
     pub fn new_discrete_states(&mut self) -> Res<EventInfo> {
         self.check_kind("fmi2NewDiscreteStates", Kind::ModelExchange)?;
         self.check("fmi2NewDiscreteStates", mask::NEW_DISCRETE_STATES)?;
-        if !self.event_committed {
-            let pose = self.values.pose();
-            let twist = self.values.twist();
-            pose.validate()
-                .map_err(|e| format!("fmi2NewDiscreteStates: {e}"))?;
-            twist
-                .validate()
-                .map_err(|e| format!("fmi2NewDiscreteStates: {e}"))?;
-            let dt = self.time - self.last_commit_time;
-            let model = self
-                .model
-                .as_mut()
-                .ok_or("fmi2NewDiscreteStates: no model")?;
-            match model.commit(&pose, &twist, dt) {
-                Ok(changed) => {
-                    self.last_commit_time = self.time;
-                    self.event_committed = true;
-                    self.cache = None;
-                    if changed {
-                        self.log_event(|| {
-                            format!("t = {}: rock cut committed (dt = {dt})", self.time)
-                        });
-                    }
-                }
-                Err(e) => {
-                    self.mode = Error;
-                    return Err(format!(
-                        "fmi2NewDiscreteStates: committing the cut failed: {e}"
-                    ));
-                }
-            }
-        }
-        Ok(EventInfo::default())
+        self.commit_cut("fmi2NewDiscreteStates")?;
+        Ok(EventInfo {
+            next_event_time: self.backstop_event_time(),
+            ..EventInfo::default()
+        })
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> Res<Status> {
@@ -973,6 +1054,15 @@ impl Instance {
             "fmi2EnterContinuousTimeMode",
             mask::ENTER_CONTINUOUS_TIME_MODE,
         )?;
+        // A host that skipped fmi2NewDiscreteStates in the initial event:
+        // the event indicator counts from the first cut, so make it now.
+        if self
+            .model
+            .as_ref()
+            .is_some_and(|m| m.travel_since_cut(&self.values.pose()).is_none())
+        {
+            self.commit_cut("fmi2EnterContinuousTimeMode")?;
+        }
         self.mode = ContinuousTimeMode;
         Ok(Status::Ok)
     }
@@ -990,23 +1080,20 @@ impl Instance {
             .model
             .as_ref()
             .ok_or("fmi2CompletedIntegratorStep: no model")?;
-        let cuts = model
-            .cuts(&pose)
-            .map_err(|e| format!("fmi2CompletedIntegratorStep: {e}"))?;
-        // the discrete state changes when the rock would be cut, or when the
-        // contact does work (cutting, or friction on a skid) that the energy
-        // bookkeeping must add
         let works = model
             .power(&pose, &twist)
             .map_err(|e| format!("fmi2CompletedIntegratorStep: {e}"))?
             != 0.0;
-        if !(cuts || works) {
+        if !works {
             // no work on the rock since the last event: the energy of the
             // next commit counts from here
             self.last_commit_time = self.time;
         }
-        let cuts = cuts || works;
-        Ok((cuts, false))
+        // An event once per sweep step of travel, not once per solver step:
+        // the indicator's zero crossing, which hosts locate themselves, or
+        // this step ending on it (a fixed step that travels one sweep step).
+        let step = self.values.real(vr::NUMERICS_SWEEP_STEP);
+        Ok((self.event_indicator() <= EVENT_SLACK * step, false))
     }
 
     pub fn set_time(&mut self, t: f64) -> Res<Status> {
@@ -1076,10 +1163,9 @@ impl Instance {
                 self.log_event(|| format!("fmi2DoStep: t = {t}, h = {h} done"));
                 Ok(Status::Ok)
             }
-            Err(e) => {
-                self.mode = Error;
-                Err(format!("fmi2DoStep(t = {t}, h = {h}) failed: {e}"))
-            }
+            // the step is all or nothing: the instance is as it was, and a
+            // shorter step may follow
+            Err(e) => Err(format!("fmi2DoStep(t = {t}, h = {h}) failed: {e}")),
         }
     }
 
@@ -1130,17 +1216,12 @@ impl Instance {
                 let mut model = if reuse {
                     self.model.take().unwrap()
                 } else {
-                    match Model::new(params.clone()) {
-                        Ok(m) => m,
-                        // The state holds the whole surface: if the initial
-                        // surface file is gone, start from the flat face.
-                        Err(e) if !params.rock.initial_surface.is_empty() => {
-                            let mut flat = params.clone();
-                            flat.rock.initial_surface.clear();
-                            Model::new(flat).map_err(|_| format!("fmi2SetFMUstate: {e}"))?
-                        }
-                        Err(e) => return Err(format!("fmi2SetFMUstate: {e}")),
-                    }
+                    // The state holds the whole surface: the initial surface
+                    // file is not read (it may be gone, or, in a forged
+                    // state, name something that never ends).
+                    let mut flat = params.clone();
+                    flat.rock.initial_surface.clear();
+                    Model::new(flat).map_err(|e| format!("fmi2SetFMUstate: {e}"))?
                 };
                 if let Err(e) = model.set_state(ms) {
                     if reuse {

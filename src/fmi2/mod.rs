@@ -8,8 +8,11 @@
 //! * `api`: the 44 exported `fmi2...` functions; all `unsafe` code of the crate
 //!   is there and in `log`.
 //!
-//! No global mutable state: every instance is its own heap object, so
-//! instances are independent and may run on different threads.
+//! One piece of global state: the registry of live FMU states (a mutex-guarded
+//! map from state to owning instance), so that fmi2FreeInstance frees the
+//! states its instance left and a freed or forged state pointer is never
+//! read. Otherwise every instance is its own heap object, so instances are
+//! independent and may run on different threads.
 
 mod api;
 mod head;

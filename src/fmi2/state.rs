@@ -259,6 +259,9 @@ pub fn decode(bytes: &[u8], resources: Option<&Path>) -> Res<Snapshot> {
         let n = usize::try_from(r.u64()?).map_err(|_| "model state too large")?;
         let blob = r.take(n)?;
         let params = values.params(resources, Files::MayBeMissing)?;
+        // the parameters bound the grid the blob may describe: checked
+        // before anything is built from them
+        params.validate().map_err(|e| e.to_string())?;
         Some(ModelState::from_bytes(blob, &params).map_err(|e| e.to_string())?)
     } else {
         if !matches!(mode, Mode::Instantiated | Mode::InitializationMode) {

@@ -94,18 +94,24 @@ STUBS = (
 )
 
 
+TBB = "/usr/lib/x86_64-linux-gnu/libtbb.so.12"
+
+
 def test_fresh_image_installs_libclang_dev(debian_fresh):
-    # apt_install "installs" libclang1 into the fake tree, as apt-get would
+    # apt_install "installs" libclang1 and libtbb12 into the fake tree, as apt-get would
     lib = debian_fresh / "usr/lib/llvm-14/lib/libclang.so.1"
-    stub = STUBS % f"printf '\\177ELF' > '{lib}'"
+    tbb = debian_fresh / TBB.lstrip("/")
+    tbb.parent.mkdir(parents=True, exist_ok=True)
+    stub = STUBS % f"printf '\\177ELF' > '{lib}'; printf '\\177ELF' > '{tbb}'"
     r = run(stub + "ensure_system_deps && echo DONE", debian_fresh)
     assert r.returncode == 0, r.stderr
-    assert "APT libclang-dev" in r.stdout
+    assert "APT libclang-dev libtbb12" in r.stdout
     assert r.stdout.strip().endswith("DONE")
 
 
 def test_present_libclang_installs_nothing(debian_fresh):
     put(debian_fresh, "/usr/lib/llvm-14/lib/libclang.so.1")
+    put(debian_fresh, TBB)
     r = run(STUBS % ":" + "ensure_system_deps && echo DONE", debian_fresh)
     assert r.returncode == 0, r.stderr
     assert "APT" not in r.stdout
@@ -116,3 +122,43 @@ def test_install_that_brings_no_libclang_fails_with_a_message(debian_fresh):
     assert r.returncode != 0
     assert "DONE" not in r.stdout
     assert "LIBCLANG_PATH" in r.stderr
+
+
+# libtbb.so.12 (Debian libtbb12), which the Ecos host (PyPI ecospy) links against
+
+@pytest.mark.parametrize("rel", [
+    TBB,                                          # libtbb12 on amd64
+    "/usr/lib/aarch64-linux-gnu/libtbb.so.12",    # libtbb12 on arm64
+    "/usr/local/lib/libtbb.so.12.8",              # a hand-built oneTBB
+])
+def test_finds_libtbb(debian_fresh, rel):
+    want = put(debian_fresh, rel)
+    r = run("find_libtbb", debian_fresh)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == str(want)
+
+
+def test_libtbb_symlink_counts_but_not_a_dangling_one_or_the_wrong_soname(debian_fresh):
+    put(debian_fresh, TBB, link_to="libtbb.so.12.8")  # dangling
+    put(debian_fresh, "/usr/lib/x86_64-linux-gnu/libtbb.so.2")  # old TBB 2020: another ABI
+    assert run("find_libtbb", debian_fresh).returncode == 1
+    put(debian_fresh, "/usr/lib/x86_64-linux-gnu/libtbb.so.12.8")
+    assert run("find_libtbb", debian_fresh).returncode == 0
+
+
+def test_missing_libtbb_alone_installs_libtbb12(debian_fresh):
+    put(debian_fresh, "/usr/lib/llvm-14/lib/libclang.so.1")
+    tbb = debian_fresh / TBB.lstrip("/")
+    r = run(STUBS % f"printf '\\177ELF' > '{tbb}'" + "ensure_system_deps && echo DONE", debian_fresh)
+    assert r.returncode == 0, r.stderr
+    assert "APT libtbb12" in r.stdout
+    assert "libclang-dev" not in r.stdout
+    assert r.stdout.strip().endswith("DONE")
+
+
+def test_install_that_brings_no_libtbb_fails_with_a_message(debian_fresh):
+    put(debian_fresh, "/usr/lib/llvm-14/lib/libclang.so.1")
+    r = run(STUBS % ":" + "ensure_system_deps && echo DONE", debian_fresh)
+    assert r.returncode != 0
+    assert "DONE" not in r.stdout
+    assert "libtbb.so.12" in r.stderr

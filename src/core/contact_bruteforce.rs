@@ -1,0 +1,164 @@
+//! A slow, obviously correct reference for kerf's contact law
+//! (`contact_law`, `contact_cutter_heightmap`): the oracle that holds the fast
+//! query to the law on every scene, and for every later speed-up. Not the
+//! default path.
+//!
+//! The disc's surface is sampled finely: `slices` rim circles across the tip
+//! and `rings` circles on a tilted disc's lower side face, each walked from
+//! its lowest point in steps of `ds` of arc. The same reading of the rock
+//! (`rock_over`) decides, sample by sample, where the contact arc starts
+//! (the first sample inside the rock) and ends (the first sample with no
+//! rock here or one cell ahead). The pressure is summed sample by sample
+//! (midpoint rule), masked where the surface does not move into the rock;
+//! no walk step, no root refinement, no closed form. Every arc's share, the
+//! side blend and the pressure level are the law's own functions.
+
+use nalgebra::Vector3;
+
+use super::contact_cutter_heightmap::{
+    arc_contribution, assemble, look_ahead, rock_over, slice_y, still_there_tolerance, Contact,
+};
+use super::contact_law::{Element, Load, Motion};
+use super::csm::CsmLaw;
+use super::cutter::PosedDisc;
+use super::heightmap::HeightMap;
+use super::params::Numerics;
+use super::pose::Twist;
+
+/// How finely the oracle samples the surface.
+#[derive(Debug, Clone, Copy)]
+pub struct Resolution {
+    /// Arc step \[m\].
+    pub ds: f64,
+    /// Rim circles across the tip.
+    pub slices: usize,
+    /// Circles across a tilted disc's lower side face.
+    pub rings: usize,
+}
+
+impl Default for Resolution {
+    /// 0.05 mm of arc, 101 slices (0.13 mm apart), 60 rings.
+    fn default() -> Self {
+        Self {
+            ds: 5e-5,
+            slices: 101,
+            rings: 60,
+        }
+    }
+}
+
+/// The contact of `disc` with `map` by brute force (rim and face loads,
+/// penetration; no slip point).
+pub fn contact_brute(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    law: &CsmLaw,
+    num: &Numerics,
+    elastic_depth: f64,
+    twist: &Twist,
+    res: &Resolution,
+) -> Contact {
+    let g = map.grid();
+    let look = g.dx.max(g.dy);
+    let motion = Motion::new(disc, twist, look_ahead(look, num));
+    let eta = still_there_tolerance(elastic_depth, look, disc);
+    let h = disc.half_width;
+    let z_top = f64::INFINITY;
+    let psi = law.psi();
+    // circles: (element, is_face)
+    let mut circles: Vec<(Element, bool)> = (0..res.slices)
+        .map(|k| {
+            let y = slice_y(h, res.slices, k);
+            (
+                Element::rim(disc, y, 2.0 * h / res.slices as f64, &motion),
+                false,
+            )
+        })
+        .collect();
+    let axle_z = disc.rot[(2, 1)];
+    if axle_z.abs() > 1e-12 {
+        let side = -axle_z.signum();
+        let r_hi = disc.rho(h);
+        let dr = r_hi / res.rings as f64;
+        for j in 0..res.rings {
+            let r = dr * (j as f64 + 0.5);
+            circles.push((Element::ring(disc, side, r, dr, &motion), true));
+        }
+    }
+    let mut loads = [[Load::default(); 2]; 2];
+    let mut depth = [0.0f64; 2];
+    for (e, face) in &circles {
+        let Some((theta0, reach)) = disc.arc_below(e.y, e.radius, z_top) else {
+            continue;
+        };
+        let reach = reach.min(std::f64::consts::PI);
+        let dt = res.ds / e.radius;
+        let m = (reach / dt).ceil() as usize;
+        let world = |t: f64| disc.to_world(&e.point(t));
+        for (s, dir) in [(0usize, 1.0f64), (1, -1.0)] {
+            // walk: the first sample inside the rock starts the arc, the
+            // first with no rock here or ahead ends it
+            let mut first = None;
+            let mut last = 0usize;
+            let mut u_max = 0.0f64;
+            for i in 0..m {
+                let t = theta0 + dir * dt * (i as f64 + 0.5);
+                let p = world(t);
+                let tan = disc.rot * Vector3::new(t.cos(), 0.0, t.sin()) * (dir * e.radius);
+                let (here, ahead) = rock_over(map, &p, tan.x, tan.y, 1e-24, look);
+                if first.is_none() {
+                    if here > 0.0 {
+                        first = Some(i);
+                        last = i;
+                        u_max = here;
+                    }
+                } else if ahead > 0.0 {
+                    last = i;
+                    u_max = u_max.max(here);
+                } else {
+                    break;
+                }
+            }
+            let Some(i0) = first else { continue };
+            // arc ends at the sample edges
+            let (ta, tb) = (
+                theta0 + dir * dt * i0 as f64,
+                theta0 + dir * dt * (last + 1) as f64,
+            );
+            let (t0, t1) = if tb >= ta { (ta, tb) } else { (tb, ta) };
+            let len = t1 - t0;
+            let (mut whole, mut drive) = (Load::default(), Load::default());
+            for i in i0..=last {
+                let t = theta0 + dir * dt * (i as f64 + 0.5);
+                // distance from the far end, for the psi distribution
+                let u = (tb - t).abs();
+                let w = if psi == 0.0 { 1.0 } else { (u / len).powf(psi) };
+                let l = Load {
+                    force: e.force.at(t),
+                    moment: e.moment.at(t),
+                }
+                .scaled(w * dt);
+                whole += l;
+                if e.vn_at(t) > e.vn_eps {
+                    drive += l;
+                }
+            }
+            let arc_depth = (world(tb).z - world(ta).z).max(0.0);
+            let (load, eff) = arc_contribution(
+                map,
+                &motion,
+                e,
+                (t0, t1),
+                (whole, drive),
+                (u_max, law.regularisation(arc_depth)),
+                elastic_depth,
+                eta,
+            );
+            depth[s] = depth[s].max(arc_depth * eff);
+            loads[usize::from(*face)][s] += load;
+        }
+    }
+    assemble(disc, law, res.slices, loads, depth)
+        .map(|(c, _)| c)
+        .unwrap_or_default()
+}

@@ -1,0 +1,543 @@
+//! kerf's contact law: the CSM pressure integrated over the part of the
+//! disc's surface that is inside the rock and driving into it.
+//!
+//! **The surface.** The disc's surface is cut into circles about the axle:
+//! rim circles, one per slice across the tip profile (axle coordinate `y`,
+//! radius `rho(y)`), and rings on a tilted disc's lower side face (radius
+//! `r`). On each circle the contact query finds the arcs `[t0, t1]` where the
+//! rock lies over the surface (see `contact_cutter_heightmap`). Over an arc,
+//! the force density of a pressure `P` normal to the surface is, in the cutter
+//! frame, `P (s sin(t) + c cos(t) + k)` for constant vectors `s, c, k`
+//! (a [`Trig`]), and so is its moment about the centre: both integrate in
+//! closed form. On the tip profile (slope angle `alpha`, `sin alpha = y/r`)
+//! the element `rho dt dy / cos(alpha)` with normal `(cos a sin t, sin a,
+//! -cos a cos t)` gives the density `rho dy (-sin t, -tan a, cos t)`: its
+//! rolling part integrates to the slice's depth times `dy`, so **the rolling
+//! force is the pressure times the cross-section of rock in front of the
+//! disc** and the normal force the pressure times the plan area of the
+//! contact, whatever the scene.
+//!
+//! **Driving into the rock.** A surface element carries pressure while it
+//! moves into the rock: its normal velocity `v_n = (v + w x q) . n` is
+//! positive. On a circle about the axle `v_n = A sin(t) + B cos(t) + C`, so the
+//! driving part of an arc is found exactly. A rolling disc's leading arc
+//! drives and its trailing arc does not; a plunging disc drives with both; a
+//! disc pushed sideways with the side it is pushed towards; a spinning disc
+//! in its own groove, or a side face sliding in its own plane, does not. It
+//! must also drive into rock **that is still there**: where the disc moved
+//! `look_ahead` of travel along its own twist finds, at the same point of its
+//! surface, rock already cut to the disc's shape, it is re-rolling its own
+//! groove, and only touching it. That test is made at three points of each arc's driving
+//! part. Below [`V_REST`] of travel speed the law fades to the elastic
+//! support of a cutter at rest: every element inside the rock pushes, so a
+//! cutter pressed in and held keeps its load.
+//!
+//! **Pressure level.** The CSM closed form was fitted to the whole contact of
+//! a fresh cut: `F_N = F_t cos(beta)`, `F_R = F_t sin(beta)`. The integral
+//! over the round tip profile of the same fresh cut at penetration `p` is
+//! below that (the profile's edges reach less deep than its crown). The
+//! rolling and normal densities are scaled by `lambda_R(p) = F_R / I_R(p)`
+//! and `lambda_N(p) = F_N / I_N(p)`, with `I(p)` the integral of this very
+//! law over the fresh cut's slices; side components and moments take
+//! `lambda_N`. A fresh straight cut on a flat face therefore reproduces the
+//! CSM closed form to the accuracy of its arc ends, and every other scene
+//! is the same pressure on a different wetted surface.
+//!
+//! **The pressure distribution.** `csm.psi` distributes the pressure along
+//! each arc as `(u / L)^psi`, `u` the angle from the arc's far end (the free
+//! surface), `L` its length; for `psi = 0` (the default) it is uniform and the
+//! integrals are closed-form, otherwise they use Gauss-Legendre quadrature
+//! on the variable that makes the weight flat.
+
+use nalgebra::{Matrix3, Rotation3, Vector3};
+
+use super::cutter::PosedDisc;
+use super::pose::Twist;
+
+/// Below this travel speed \[m/s\] of the disc (centre speed plus `R` times
+/// the frame's turn rate, spin excluded) the law fades from driving contact
+/// to the elastic support of a cutter at rest (smoothstep in speed).
+pub const V_REST: f64 = 1.0e-3;
+
+#[inline]
+pub fn smoothstep(s: f64) -> f64 {
+    let s = s.clamp(0.0, 1.0);
+    s * s * (3.0 - 2.0 * s)
+}
+
+/// A vector function `s sin(t) + c cos(t) + k` of the angle `t` on a circle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Trig {
+    pub s: Vector3<f64>,
+    pub c: Vector3<f64>,
+    pub k: Vector3<f64>,
+}
+
+impl Trig {
+    #[inline]
+    pub fn at(&self, t: f64) -> Vector3<f64> {
+        let (st, ct) = t.sin_cos();
+        self.s * st + self.c * ct + self.k
+    }
+
+    /// `integral from t0 to t1`.
+    #[inline]
+    pub fn integral(&self, t0: f64, t1: f64) -> Vector3<f64> {
+        let (s0, c0) = t0.sin_cos();
+        let (s1, c1) = t1.sin_cos();
+        self.s * (c0 - c1) + self.c * (s1 - s0) + self.k * (t1 - t0)
+    }
+}
+
+/// Force and moment (about the disc centre), cutter frame.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Load {
+    pub force: Vector3<f64>,
+    pub moment: Vector3<f64>,
+}
+
+impl Load {
+    pub fn scaled(&self, w: f64) -> Load {
+        Load {
+            force: self.force * w,
+            moment: self.moment * w,
+        }
+    }
+}
+
+impl std::ops::Add for Load {
+    type Output = Load;
+    fn add(mut self, o: Load) -> Load {
+        self += o;
+        self
+    }
+}
+
+impl std::ops::AddAssign for Load {
+    fn add_assign(&mut self, o: Load) {
+        self.force += o.force;
+        self.moment += o.moment;
+    }
+}
+
+/// One circle of the disc's surface about the axle, with the densities of a
+/// unit pressure on it and the normal velocity of its points.
+#[derive(Debug, Clone, Copy)]
+pub struct Element {
+    pub force: Trig,
+    pub moment: Trig,
+    /// `v_n(t) = a sin(t) + b cos(t) + c`; terms below `vn_eps` are noise.
+    pub vn: (f64, f64, f64),
+    pub vn_eps: f64,
+    /// Axle coordinate and radius of the circle (cutter frame): the point at
+    /// angle `t` is `(radius sin t, y, -radius cos t)`.
+    pub y: f64,
+    pub radius: f64,
+}
+
+/// The motion of the disc, as the law needs it.
+#[derive(Debug, Clone, Copy)]
+pub struct Motion {
+    /// Centre velocity and angular velocity, cutter frame.
+    pub v: Vector3<f64>,
+    pub w: Vector3<f64>,
+    /// 0 at rest, 1 once the disc travels faster than `V_REST`.
+    pub moving: f64,
+    /// Normal velocities below this are rounding noise \[m/s\].
+    pub vn_eps: f64,
+    /// Surface point (cutter frame) to where the same point of the surface
+    /// is after `look_ahead` of travel of the frame, rock frame:
+    /// `ahead_rot * q + ahead_pos`. The spin is left out: the surface is one of
+    /// revolution, and the point at the same angle tells whether the disc
+    /// ahead still meets rock where this one does.
+    pub ahead_rot: Matrix3<f64>,
+    pub ahead_pos: Vector3<f64>,
+}
+
+/// `exp` of a rotation vector and the `V` matrix of SE(3) (the integral of
+/// the rotation over the step), for a body-fixed twist.
+fn exp_and_v(phi: Vector3<f64>) -> (Matrix3<f64>, Matrix3<f64>) {
+    let th = phi.norm();
+    let k = phi.cross_matrix();
+    let k2 = k * k;
+    let (a, b) = if th < 1e-6 {
+        (0.5 - th * th / 24.0, 1.0 / 6.0 - th * th / 120.0)
+    } else {
+        (
+            (1.0 - th.cos()) / (th * th),
+            (th - th.sin()) / (th * th * th),
+        )
+    };
+    let e = *Rotation3::from_scaled_axis(phi).matrix();
+    (e, Matrix3::identity() + k * a + k2 * b)
+}
+
+impl Motion {
+    /// The motion of `disc` under `twist` (rock frame), looking `look_ahead`
+    /// metres of travel ahead.
+    pub fn new(disc: &PosedDisc, twist: &Twist, look_ahead: f64) -> Self {
+        let rt = disc.rot.transpose();
+        let v = rt * twist.velocity;
+        let w = rt * twist.omega;
+        // the frame turns with w less its spin about the axle (cutter y)
+        let w_frame = Vector3::new(w.x, 0.0, w.z);
+        let speed = v.norm() + w_frame.norm() * disc.radius;
+        let moving = smoothstep(speed / V_REST);
+        let (ahead_rot, ahead_pos) = if speed > 0.0 && look_ahead > 0.0 {
+            let tau = look_ahead / speed;
+            let (e, vm) = exp_and_v(w_frame * tau);
+            (disc.rot * e, disc.centre + disc.rot * (vm * (v * tau)))
+        } else {
+            (disc.rot, disc.centre)
+        };
+        let vn_eps = 1e-12 * (v.norm() + w.norm() * disc.radius);
+        Self {
+            v,
+            w,
+            moving,
+            vn_eps,
+            ahead_rot,
+            ahead_pos,
+        }
+    }
+
+    /// Where the surface point `q` (cutter frame) is after the look-ahead.
+    #[inline]
+    pub fn ahead(&self, q: &Vector3<f64>) -> Vector3<f64> {
+        self.ahead_rot * q + self.ahead_pos
+    }
+}
+
+impl Element {
+    /// Rim circle of the tip profile at axle coordinate `y`, for a strip of
+    /// the tip `dy` wide.
+    pub fn rim(disc: &PosedDisc, y: f64, dy: f64, m: &Motion) -> Self {
+        let rho = disc.rho(y);
+        let r = disc.tip_radius;
+        let sa = (y / r).clamp(-1.0, 1.0);
+        let ca = (1.0 - sa * sa).max(0.0).sqrt();
+        let ta = sa / ca.max(1e-12);
+        let g = rho * dy;
+        let lever = g * (y - rho * ta);
+        let kk = rho * sa - y * ca;
+        Self {
+            force: Trig {
+                s: Vector3::new(-g, 0.0, 0.0),
+                c: Vector3::new(0.0, 0.0, g),
+                k: Vector3::new(0.0, -g * ta, 0.0),
+            },
+            moment: Trig {
+                s: Vector3::new(0.0, 0.0, lever),
+                c: Vector3::new(lever, 0.0, 0.0),
+                k: Vector3::zeros(),
+            },
+            vn: (
+                m.v.x * ca + m.w.z * kk,
+                -m.v.z * ca + m.w.x * kk,
+                m.v.y * sa,
+            ),
+            vn_eps: m.vn_eps,
+            y,
+            radius: rho,
+        }
+    }
+
+    /// Ring of radius `r` on the side face `y = side * T/2` (outward normal
+    /// `side * y`), for a band `dr` wide.
+    pub fn ring(disc: &PosedDisc, side: f64, r: f64, dr: f64, m: &Motion) -> Self {
+        let g = side * r * dr;
+        let g2 = g * r;
+        Self {
+            force: Trig {
+                s: Vector3::zeros(),
+                c: Vector3::zeros(),
+                k: Vector3::new(0.0, -g, 0.0),
+            },
+            moment: Trig {
+                s: Vector3::new(0.0, 0.0, -g2),
+                c: Vector3::new(-g2, 0.0, 0.0),
+                k: Vector3::zeros(),
+            },
+            vn: (side * m.w.z * r, side * m.w.x * r, side * m.v.y),
+            vn_eps: m.vn_eps,
+            y: side * disc.half_width,
+            radius: r,
+        }
+    }
+
+    /// The surface point at angle `t`, cutter frame.
+    #[inline]
+    pub fn point(&self, t: f64) -> Vector3<f64> {
+        let (s, c) = t.sin_cos();
+        Vector3::new(self.radius * s, self.y, -self.radius * c)
+    }
+
+    #[inline]
+    pub fn vn_at(&self, t: f64) -> f64 {
+        let (s, c) = t.sin_cos();
+        self.vn.0 * s + self.vn.1 * c + self.vn.2
+    }
+
+    /// The parts of `[lo, hi]` where `v_n > 0` (at most two intervals).
+    pub fn driving_parts(&self, lo: f64, hi: f64) -> ([(f64, f64); 2], usize) {
+        let mut out = [(0.0, 0.0); 2];
+        let mut n = 0;
+        let (a, b, c) = self.vn;
+        let m = a.hypot(b);
+        if m <= c.abs() + self.vn_eps {
+            if c > self.vn_eps && hi > lo {
+                out[0] = (lo, hi);
+                n = 1;
+            }
+            return (out, n);
+        }
+        // a sin + b cos = m cos(t - tm)
+        let tm = a.atan2(b);
+        let h = (-c / m).clamp(-1.0, 1.0).acos();
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let k0 = ((0.5 * (lo + hi) - tm) / two_pi).round();
+        for dk in [-1.0, 0.0, 1.0] {
+            let centre = tm + two_pi * (k0 + dk);
+            let (s, e) = ((centre - h).max(lo), (centre + h).min(hi));
+            if e > s && n < 2 {
+                out[n] = (s, e);
+                n += 1;
+            }
+        }
+        (out, n)
+    }
+}
+
+/// Gauss-Legendre nodes and weights on [0, 1] (16 points).
+fn gauss16() -> &'static [(f64, f64); 16] {
+    static G: std::sync::OnceLock<[(f64, f64); 16]> = std::sync::OnceLock::new();
+    G.get_or_init(|| {
+        // Newton on P_16, Golub-Welsch free
+        let n = 16usize;
+        let mut out = [(0.0, 0.0); 16];
+        for (i, slot) in out.iter_mut().enumerate() {
+            let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+            let mut dp = 0.0;
+            for _ in 0..100 {
+                let (mut p0, mut p1) = (1.0, x);
+                for k in 2..=n {
+                    let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                    p0 = p1;
+                    p1 = p2;
+                }
+                dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
+                let dx = p1 / dp;
+                x -= dx;
+                if dx.abs() < 1e-15 {
+                    break;
+                }
+            }
+            let w = 2.0 / ((1.0 - x * x) * dp * dp);
+            *slot = (0.5 * (1.0 - x), 0.5 * w);
+        }
+        out
+    })
+}
+
+/// The load of a unit CSM pressure on the arc `[lo, hi]` of `e` whose far
+/// end (the free surface) is `hi` when `far_hi`, split into the whole arc
+/// and its driving part.
+pub fn arc_load(e: &Element, lo: f64, hi: f64, far_hi: bool, psi: f64) -> (Load, Load) {
+    let (parts, n) = e.driving_parts(lo, hi);
+    if psi == 0.0 {
+        let whole = Load {
+            force: e.force.integral(lo, hi),
+            moment: e.moment.integral(lo, hi),
+        };
+        let mut drive = Load::default();
+        for &(a, b) in &parts[..n] {
+            drive += Load {
+                force: e.force.integral(a, b),
+                moment: e.moment.integral(a, b),
+            };
+        }
+        return (whole, drive);
+    }
+    // (u/L)^psi du with u from the far end = L/(1+psi) dv, u = L v^(1/(1+psi))
+    let len = hi - lo;
+    let ex = 1.0 / (1.0 + psi);
+    let scale = len * ex;
+    let (mut whole, mut drive) = (Load::default(), Load::default());
+    for &(v, w) in gauss16() {
+        let u = len * v.powf(ex);
+        let t = if far_hi { hi - u } else { lo + u };
+        let l = Load {
+            force: e.force.at(t),
+            moment: e.moment.at(t),
+        }
+        .scaled(w * scale);
+        whole += l;
+        if e.vn_at(t) > e.vn_eps {
+            drive += l;
+        }
+    }
+    (whole, drive)
+}
+
+/// `lambda_R(p)` and `lambda_N(p)`: the CSM rolling and normal force at `p`
+/// over the same law's integral on a fresh straight cut at `p` with `n`
+/// slices, each slice's arc weighed by `reg(its depth)` as the law weighs it
+/// (0 where that integral vanishes).
+pub fn pressure_level(
+    disc: &PosedDisc,
+    n: usize,
+    p: f64,
+    psi: f64,
+    f_t: f64,
+    beta: f64,
+    reg: &dyn Fn(f64) -> f64,
+) -> (f64, f64) {
+    let still = Motion {
+        v: Vector3::new(1.0, 0.0, 0.0),
+        w: Vector3::new(0.0, 1.0 / disc.radius, 0.0),
+        moving: 1.0,
+        vn_eps: 0.0,
+        ahead_rot: Matrix3::identity(),
+        ahead_pos: Vector3::zeros(),
+    };
+    let h = disc.half_width;
+    let dy = 2.0 * h / n as f64;
+    let (mut ir, mut inn) = (0.0, 0.0);
+    for k in 0..n {
+        let y = -h + dy * (k as f64 + 0.5);
+        let rho = disc.rho(y);
+        let pk = p - (disc.radius - rho);
+        if pk <= 0.0 {
+            continue;
+        }
+        let phi = ((rho - pk) / rho).clamp(-1.0, 1.0).acos();
+        let e = Element::rim(disc, y, dy, &still);
+        let (whole, _) = arc_load(&e, 0.0, phi, true, psi);
+        let w = reg(pk);
+        ir -= whole.force.x * w;
+        inn += whole.force.z * w;
+    }
+    let lr = if ir > 0.0 { f_t * beta.sin() / ir } else { 0.0 };
+    let ln = if inn > 0.0 {
+        f_t * beta.cos() / inn
+    } else {
+        0.0
+    };
+    (lr, ln)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::core::params::CutterParams;
+    use crate::core::pose::Pose;
+
+    fn disc() -> PosedDisc {
+        PosedDisc::new(
+            &CutterParams::default(),
+            &Pose::new(0.0, 0.0, 0.3, 0.0, 0.0, 0.0),
+        )
+    }
+
+    #[test]
+    fn closed_form_matches_quadrature_and_psi_zero() {
+        let d = disc();
+        let m = Motion::new(&d, &Twist::new([1.0, 0.2, -0.1], [0.3, 4.0, 0.5]), 0.0);
+        let e = Element::rim(&d, 0.004, 1e-3, &m);
+        let (w0, d0) = arc_load(&e, -0.1, 0.3, true, 0.0);
+        // tiny psi: quadrature of the same integrand
+        let (w1, _) = arc_load(&e, -0.1, 0.3, true, 1e-12);
+        assert!((w0.force - w1.force).norm() < 1e-9 * w0.force.norm());
+        assert!((w0.moment - w1.moment).norm() < 1e-9 * w0.moment.norm().max(1e-12));
+        // brute-force midpoint sums of the driving part
+        let n = 200_000;
+        let mut f = Vector3::zeros();
+        for i in 0..n {
+            let t = -0.1 + 0.4 * (i as f64 + 0.5) / n as f64;
+            if e.vn_at(t) > 0.0 {
+                f += e.force.at(t) * (0.4 / n as f64);
+            }
+        }
+        assert!(
+            (f - d0.force).norm() < 1e-6 * w0.force.norm(),
+            "{f} {}",
+            d0.force
+        );
+    }
+
+    #[test]
+    fn driving_parts_cover_exactly_the_positive_normal_velocity() {
+        let d = disc();
+        for (v, w) in [
+            ([1.0, 0.0, 0.0], [0.0, 4.6, 0.0]),
+            ([0.0, 0.0, -1.0], [0.0, 0.0, 0.0]),
+            ([0.3, 0.5, 0.1], [0.2, 1.0, 2.0]),
+            ([-1.0, 0.0, 0.0], [0.0, -4.6, 0.0]),
+        ] {
+            let m = Motion::new(&d, &Twist::new(v, w), 0.0);
+            for y in [-0.006, 0.0, 0.003] {
+                let e = Element::rim(&d, y, 1e-3, &m);
+                let (parts, n) = e.driving_parts(-2.0, 2.5);
+                for i in 0..1000 {
+                    let t = -2.0 + 4.5 * (i as f64 + 0.5) / 1000.0;
+                    let inside = parts[..n].iter().any(|&(a, b)| t > a && t < b);
+                    let vn = e.vn_at(t);
+                    if vn.abs() > 1e-9 {
+                        assert_eq!(inside, vn > 0.0, "t={t} vn={vn} {v:?} {w:?} y={y}");
+                    }
+                }
+                // the closed form of v_n agrees with (v + w x q) . n
+                let t = 0.7;
+                let q = e.point(t);
+                let r = d.tip_radius;
+                let (sa, ca) = (y / r, (1.0 - (y / r).powi(2)).sqrt());
+                let nrm = Vector3::new(ca * t.sin(), sa, -ca * t.cos());
+                let direct = (m.v + m.w.cross(&q)).dot(&nrm);
+                assert!(
+                    (direct - e.vn_at(t)).abs() < 1e-12,
+                    "{direct} {}",
+                    e.vn_at(t)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn rolling_work_of_a_fresh_arc_is_the_slice_cross_section() {
+        // the rolling density integrates to (1 - cos phi) rho dy = depth * dy
+        let d = disc();
+        let m = Motion::new(
+            &d,
+            &Twist::new([1.0, 0.0, 0.0], [0.0, 1.0 / d.radius, 0.0]),
+            0.0,
+        );
+        let e = Element::rim(&d, 0.002, 1e-3, &m);
+        let rho = d.rho(0.002);
+        let pk = 0.003;
+        let phi = ((rho - pk) / rho).acos();
+        let (w, dr) = arc_load(&e, 0.0, phi, true, 0.0);
+        assert!((-w.force.x - pk * 1e-3).abs() < 1e-15);
+        assert_eq!(w, dr);
+    }
+
+    #[test]
+    fn look_ahead_follows_a_circle_exactly() {
+        // a disc heading +x on a circle of radius 0.5 about (0, 0.5): after
+        // 0.1 m of travel its centre is on the circle and heads along it
+        let d = PosedDisc::new(
+            &CutterParams::default(),
+            &Pose::new(0.0, 0.0, 0.2, 0.0, 0.0, 0.0),
+        );
+        let rt = 0.5;
+        let tw = Twist::new([1.0, 0.0, 0.0], [0.0, 1.0 / d.radius, 1.0 / rt]);
+        let m = Motion::new(&d, &tw, 0.1);
+        let c = m.ahead(&Vector3::zeros());
+        // look-ahead travel counts the frame's turn at the rim: 1 + R/rt m/s
+        let s = 0.1 / (1.0 + d.radius / rt);
+        assert!(
+            ((c.x.powi(2) + (c.y - rt).powi(2)).sqrt() - rt).abs() < 1e-12,
+            "{c}"
+        );
+        assert!((c.x - rt * (s / rt).sin()).abs() < 1e-12, "{c}");
+    }
+}

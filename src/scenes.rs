@@ -1,0 +1,304 @@
+//! The scenes a cutterhead makes of one disc, as plain functions of the
+//! model: a fresh straight cut, a tilted (gauge) disc, a second pass beside a
+//! groove (partial engagement), and a re-roll of a groove on a straight or
+//! curved track. Tests, the speed-vs-error report and `examples/contact_scenes`
+//! share them, so every figure comes from the same definitions.
+//!
+//! Every scene rolls the disc free (spin `v/R` about its own axle) at 1 m/s
+//! in Co-Simulation steps of `h`, and averages the cutter-frame forces
+//! (normal, rolling, side) and the moment about the centre over a window of
+//! steady cutting.
+
+use nalgebra::Vector3;
+
+use crate::core::cutter::PosedDisc;
+use crate::core::{Model, Outputs, Params, Pose, Twist};
+
+/// Penetration of the reference scene \[m\].
+pub const P_REF: f64 = 0.0038;
+
+/// Mean outputs over a window.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Mean {
+    /// Cutter-frame force: normal (+z), rolling (-x), side (+y) \[N\].
+    pub force: [f64; 3],
+    /// Moment about the disc centre, cutter frame \[N m\].
+    pub moment: [f64; 3],
+    /// The contact's cutting force alone (no friction), cutter frame, in the
+    /// same order as `force` \[N\].
+    pub cutting: [f64; 3],
+    /// Rock removed inside the window \[m3\].
+    pub volume: f64,
+    /// Path length of the window \[m\].
+    pub length: f64,
+    /// Steps averaged.
+    pub steps: usize,
+    /// Median wall time of one step (cut along the path, then evaluate) in
+    /// the window \[us\]: for reports only.
+    pub us_median: f64,
+}
+
+impl Mean {
+    /// Rolling work of the cutting force per volume removed \[J/m3\]
+    /// (`F_R * length / volume`, friction left out).
+    pub fn rolling_work_per_volume(&self) -> f64 {
+        if self.volume > 0.0 {
+            self.cutting[1] * self.length / self.volume
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
+/// Parameters of the default disc and rock on a face of `[x0, x1] x [y0, y1]`
+/// with cells of `cell` metres.
+pub fn face(cell: f64, x0: f64, x1: f64, y0: f64, y1: f64) -> Params {
+    let mut p = Params::default();
+    let r = &mut p.rock;
+    r.nx = ((x1 - x0) / cell).round() as usize + 1;
+    r.ny = ((y1 - y0) / cell).round() as usize + 1;
+    r.x_min = x0;
+    r.x_max = x0 + cell * (r.nx - 1) as f64;
+    r.y_min = y0;
+    r.y_max = y0 + cell * (r.ny - 1) as f64;
+    p
+}
+
+/// Pose of a disc with heading `yaw` and roll `roll` whose lowest point is
+/// at `(x, y, -depth)` (the face is at z = 0).
+pub fn pose_with_lowest_point(
+    prm: &Params,
+    x: f64,
+    y: f64,
+    depth: f64,
+    yaw: f64,
+    roll: f64,
+) -> Pose {
+    let probe = Pose::new(0.0, 0.0, 1.0, yaw, 0.0, roll);
+    let low = PosedDisc::new(&prm.cutter, &probe).lowest_point();
+    Pose::new(x - low.x, y - low.y, 1.0 - low.z - depth, yaw, 0.0, roll)
+}
+
+/// The free-rolling twist of a disc at `pose` moving at `speed` along its
+/// heading, turning at `yaw_rate` about the vertical.
+pub fn rolling_twist(prm: &Params, pose: &Pose, speed: f64, yaw_rate: f64) -> Twist {
+    let rot = pose.rotation();
+    let heading = rot * Vector3::x();
+    let heading = Vector3::new(heading.x, heading.y, 0.0).normalize() * speed;
+    let axle = rot * Vector3::y();
+    let w = axle * (speed / prm.cutter.radius) + Vector3::z() * yaw_rate;
+    Twist::new(heading.into(), w.into())
+}
+
+fn cutter_frame(o: &Outputs, pose: &Pose) -> ([f64; 3], [f64; 3]) {
+    let rt = pose.rotation().transpose();
+    let m = rt * Vector3::from(o.moment);
+    (
+        [o.normal_force, o.rolling_force, o.side_force],
+        [m.x, m.y, m.z],
+    )
+}
+
+/// A path: the pose after travelling `s` metres.
+pub trait Track {
+    fn pose(&self, s: f64) -> Pose;
+    fn twist(&self, s: f64) -> Twist;
+}
+
+/// A straight pass along +x at lateral offset `y`, lowest point `depth` deep,
+/// rolled by `roll`.
+pub struct Straight {
+    pub prm: Params,
+    pub x0: f64,
+    pub y: f64,
+    pub depth: f64,
+    pub roll: f64,
+}
+
+impl Track for Straight {
+    fn pose(&self, s: f64) -> Pose {
+        pose_with_lowest_point(&self.prm, self.x0 + s, self.y, self.depth, 0.0, self.roll)
+    }
+    fn twist(&self, s: f64) -> Twist {
+        rolling_twist(&self.prm, &self.pose(s), 1.0, 0.0)
+    }
+}
+
+/// A circular track of radius `radius` about `(cx, cy)`, counter-clockwise
+/// from the angle `a0`, lowest point `depth` deep.
+pub struct Circle {
+    pub prm: Params,
+    pub cx: f64,
+    pub cy: f64,
+    pub radius: f64,
+    pub a0: f64,
+    pub depth: f64,
+}
+
+impl Track for Circle {
+    fn pose(&self, s: f64) -> Pose {
+        let a = self.a0 + s / self.radius;
+        let (x, y) = (
+            self.cx + self.radius * a.cos(),
+            self.cy + self.radius * a.sin(),
+        );
+        pose_with_lowest_point(
+            &self.prm,
+            x,
+            y,
+            self.depth,
+            a + std::f64::consts::FRAC_PI_2,
+            0.0,
+        )
+    }
+    fn twist(&self, s: f64) -> Twist {
+        rolling_twist(&self.prm, &self.pose(s), 1.0, 1.0 / self.radius)
+    }
+}
+
+/// Rolls along `track` from `s = 0` to `length` in steps of `h` metres,
+/// each step a Co-Simulation step that ends exactly on the track (the pose
+/// is set from the track, the path between cut by the model), and averages
+/// over `s` in `[lo, hi]`.
+pub fn roll(model: &mut Model, track: &dyn Track, length: f64, h: f64, lo: f64, hi: f64) -> Mean {
+    let n = (length / h).round() as usize;
+    let mut mean = Mean::default();
+    let mut v_lo = None;
+    let mut v_hi = 0.0;
+    let mut us = Vec::new();
+    for k in 0..=n {
+        let s = k as f64 * h;
+        let pose = track.pose(s);
+        let tw = track.twist(s);
+        let t0 = std::time::Instant::now();
+        if k == 0 {
+            model.commit(&pose, &tw, 0.0).expect("commit");
+        } else {
+            // Model Exchange style: the model cuts along the path from the
+            // last cut, so the pose stays exactly on the track
+            model.commit(&pose, &tw, h).expect("commit");
+        }
+        let o = model.evaluate(&pose, &tw).expect("evaluate");
+        let dt_us = t0.elapsed().as_secs_f64() * 1e6;
+        if s >= lo - 1e-12 && s <= hi + 1e-12 {
+            let (f, m) = cutter_frame(&o, &pose);
+            let c = model.contact(&pose, &tw);
+            let rt = pose.rotation().transpose();
+            let cut = rt * (c.rim_force + c.side_force);
+            let cut = [cut.z, -cut.x, cut.y];
+            for i in 0..3 {
+                mean.force[i] += f[i];
+                mean.moment[i] += m[i];
+                mean.cutting[i] += cut[i];
+            }
+            mean.steps += 1;
+            us.push(dt_us);
+            if v_lo.is_none() {
+                v_lo = Some((o.excavated_volume, s));
+            }
+            v_hi = o.excavated_volume;
+            mean.length = s - v_lo.unwrap().1;
+        }
+    }
+    let k = mean.steps.max(1) as f64;
+    mean.force = mean.force.map(|x| x / k);
+    mean.moment = mean.moment.map(|x| x / k);
+    mean.cutting = mean.cutting.map(|x| x / k);
+    mean.volume = v_hi - v_lo.map_or(0.0, |v| v.0);
+    us.sort_by(f64::total_cmp);
+    mean.us_median = us.get(us.len() / 2).copied().unwrap_or(0.0);
+    mean
+}
+
+/// Length of the scenes' passes and their averaging window \[m\]: the
+/// contact is steady 0.05 m after the start (R sin(phi) = 40 mm).
+pub const PASS: f64 = 0.15;
+pub const WINDOW: (f64, f64) = (0.06, 0.14);
+
+/// A fresh straight cut `depth` deep, rolled by `roll` (0 = upright).
+pub fn fresh(cell: f64, depth: f64, roll: f64) -> Mean {
+    let prm = face(cell, -0.3, 0.5, -0.06, 0.06);
+    let mut m = Model::new(prm.clone()).unwrap();
+    let t = Straight {
+        prm,
+        x0: 0.0,
+        y: 0.0,
+        depth,
+        roll,
+    };
+    roll_track(&mut m, &t)
+}
+
+fn roll_track(m: &mut Model, t: &dyn Track) -> Mean {
+    roll(m, t, PASS, 1e-3, WINDOW.0, WINDOW.1)
+}
+
+/// A second pass `offset` beside a first groove of the same depth (upright
+/// discs): the mean of the second pass.
+pub fn beside(cell: f64, depth: f64, offset: f64) -> Mean {
+    let prm = face(cell, -0.3, 0.5, -0.06, 0.06);
+    let mut m = Model::new(prm.clone()).unwrap();
+    let first = Straight {
+        prm: prm.clone(),
+        x0: -0.1,
+        y: 0.0,
+        depth,
+        roll: 0.0,
+    };
+    roll(&mut m, &first, PASS + 0.2, 1e-3, 0.0, 0.0);
+    let second = Straight {
+        prm,
+        x0: 0.0,
+        y: offset,
+        depth,
+        roll: 0.0,
+    };
+    roll_track(&mut m, &second)
+}
+
+/// Re-rolls a groove at its own depth: the first pass cuts it, the second
+/// rolls it again on the same track (`radius` = None: straight).
+pub fn reroll(cell: f64, depth: f64, radius: Option<f64>) -> Mean {
+    match radius {
+        None => beside(cell, depth, 0.0),
+        Some(rt) => {
+            // an arc of the circle centred on (0, -rt): the disc starts at
+            // (0, 0) heading +x (a0 = pi/2 makes it head -x, so a0 = -pi/2)
+            let len = PASS + 0.2;
+            let half = 0.5 * len.min(std::f64::consts::PI * rt);
+            let ang = (half / rt).min(std::f64::consts::PI);
+            let reach = if ang > std::f64::consts::FRAC_PI_2 {
+                rt
+            } else {
+                rt * ang.sin()
+            };
+            let prm = face(
+                cell,
+                -reach - 0.3,
+                reach + 0.3,
+                -0.06,
+                0.06 + rt * (1.0 - ang.cos()),
+            );
+            let mut m = Model::new(prm.clone()).unwrap();
+            let a0 = -std::f64::consts::FRAC_PI_2 - (half - 0.1) / rt;
+            let first = Circle {
+                prm: prm.clone(),
+                cx: 0.0,
+                cy: rt,
+                radius: rt,
+                a0: a0 - 0.1 / rt,
+                depth,
+            };
+            roll(&mut m, &first, len, 1e-3, 0.0, 0.0);
+            let second = Circle {
+                prm,
+                cx: 0.0,
+                cy: rt,
+                radius: rt,
+                a0,
+                depth,
+            };
+            roll_track(&mut m, &second)
+        }
+    }
+}

@@ -1,0 +1,268 @@
+//! The contact law on the scenes a cutterhead makes (issue 7): the fast
+//! query against the brute-force oracle, partial engagement, re-rolls on
+//! straight and curved tracks, tilted discs, continuity and convergence.
+//! Forces are the contact's cutting forces (friction left out) unless a
+//! test says otherwise; tolerances are fractions of the fresh cut's normal
+//! force `FN` (60.8 kN at the reference scene).
+//!
+//! The full sweeps and the 0.25 mm convergence runs are slow:
+//! `cargo test --release --test contact_law -- --ignored`.
+
+use kerf::core::contact_bruteforce::Resolution;
+use kerf::core::*;
+use kerf::scenes::*;
+
+const FN: f64 = 60_795.388;
+
+fn fresh_ref() -> Mean {
+    fresh(1e-3, P_REF, 0.0)
+}
+
+/// Largest component difference of two cutter-frame forces, over FN.
+fn diff(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max) / FN
+}
+
+/// The model after rolling `track` for `len`, and the pose and twist there.
+fn rolled(prm: &Params, tracks: &[(&dyn Track, f64)]) -> (Model, Pose, Twist) {
+    let mut m = Model::new(prm.clone()).unwrap();
+    for (t, len) in tracks {
+        roll(&mut m, *t, *len, 1e-3, 0.0, 0.0);
+    }
+    let (t, len) = tracks.last().unwrap();
+    (m, t.pose(*len), t.twist(*len))
+}
+
+fn cutter_frame(
+    m: &Model,
+    pose: &Pose,
+    c: &kerf::core::contact_cutter_heightmap::Contact,
+) -> [f64; 3] {
+    let _ = m;
+    let f = pose.rotation().transpose() * (c.rim_force + c.side_force);
+    [f.z, -f.x, f.y]
+}
+
+#[test]
+fn the_fast_contact_matches_the_brute_force_oracle_on_every_scene() {
+    // the oracle samples the surface every 0.05 mm with 101 slices; the fast
+    // query walks 9 slices and refines arc ends. Held to 1.5 % of FN per
+    // component (measured: at most 1.0 %, the normal force 4 mm beside a groove)
+    let prm = face(1e-3, -0.3, 0.5, -0.06, 0.06);
+    let mut scenes: Vec<(String, Model, Pose, Twist)> = Vec::new();
+    for g in [0.0f64, 10.0, 30.0, 60.0] {
+        let t = Straight {
+            prm: prm.clone(),
+            x0: 0.0,
+            y: 0.0,
+            depth: P_REF,
+            roll: g.to_radians(),
+        };
+        let (m, p, tw) = rolled(&prm, &[(&t, 0.1)]);
+        scenes.push((format!("tilt {g}"), m, p, tw));
+    }
+    for d in [2e-3, 4e-3, 8e-3] {
+        let a = Straight {
+            prm: prm.clone(),
+            x0: -0.1,
+            y: 0.0,
+            depth: P_REF,
+            roll: 0.0,
+        };
+        let b = Straight {
+            prm: prm.clone(),
+            x0: 0.0,
+            y: d,
+            depth: P_REF,
+            roll: 0.0,
+        };
+        let (m, p, tw) = rolled(&prm, &[(&a, 0.35), (&b, 0.1)]);
+        scenes.push((format!("beside {d}"), m, p, tw));
+    }
+    for (name, m, pose, tw) in &scenes {
+        let fast = cutter_frame(m, pose, &m.contact(pose, tw));
+        let brute = cutter_frame(m, pose, &m.contact_brute(pose, tw, &Resolution::default()));
+        assert!(
+            brute[0] > 0.1 * FN,
+            "{name}: oracle finds no load {brute:?}"
+        );
+        let e = diff(fast, brute);
+        assert!(e < 0.015, "{name}: fast {fast:?} brute {brute:?} ({e})");
+    }
+}
+
+#[test]
+fn a_fresh_straight_cut_is_the_csm_closed_form_with_the_oracle_too() {
+    // the pressure level is calibrated on the law's own integral, so the
+    // oracle (101 slices) reproduces the closed form as well: 0.1 %
+    let prm = face(1e-3, -0.3, 0.5, -0.06, 0.06);
+    let t = Straight {
+        prm: prm.clone(),
+        x0: 0.0,
+        y: 0.0,
+        depth: P_REF,
+        roll: 0.0,
+    };
+    let (m, p, tw) = rolled(&prm, &[(&t, 0.1)]);
+    let b = cutter_frame(&m, &p, &m.contact_brute(&p, &tw, &Resolution::default()));
+    assert!((b[0] / FN - 1.0).abs() < 1e-3, "{b:?}");
+    assert!((b[1] / 5728.495 - 1.0).abs() < 1e-3, "{b:?}");
+}
+
+#[test]
+fn a_pass_beside_a_groove_charges_the_rock_it_removes() {
+    // second pass at the same depth, offset d from a first groove
+    let f = fresh_ref();
+    let w_fresh = f.rolling_work_per_volume();
+    let mut last = [0.0f64; 2];
+    for d_mm in [0.0, 1.0, 2.0, 4.0, 6.0, 8.0, 10.0, 13.0] {
+        let m = beside(1e-3, P_REF, d_mm * 1e-3);
+        let (n, r) = (m.cutting[0], m.cutting[1]);
+        // the forces rise with d to the fresh cut's (0.5 % FN of slack for
+        // the grid)
+        assert!(
+            n >= last[0] - 0.005 * FN,
+            "d={d_mm}: normal {n} after {}",
+            last[0]
+        );
+        assert!(
+            r >= last[1] - 0.005 * FN,
+            "d={d_mm}: rolling {r} after {}",
+            last[1]
+        );
+        last = [n, r];
+        let removed = m.volume / m.length / (f.volume / f.length);
+        if d_mm == 0.0 {
+            // re-rolling its own groove: no rock, (almost) no load
+            assert!(n < 0.05 * FN, "re-roll: {n}");
+        }
+        if removed >= 0.2 {
+            let w = m.rolling_work_per_volume() / w_fresh;
+            assert!(
+                (w - 1.0).abs() < 0.3,
+                "d={d_mm}: rolling work per volume x{w}"
+            );
+        }
+    }
+    assert!((last[0] / f.cutting[0] - 1.0).abs() < 0.005, "{last:?}");
+}
+
+#[test]
+fn re_rolling_a_groove_on_a_curved_track_feels_almost_nothing() {
+    for r in [0.2, 0.5, 1.0] {
+        let m = reroll(1e-3, P_REF, Some(r));
+        assert!(m.cutting[0].abs() < 0.05 * FN, "r={r}: {:?}", m.cutting);
+        assert!(m.cutting[1].abs() < 0.05 * FN, "r={r}: {:?}", m.cutting);
+    }
+}
+
+#[test]
+fn a_tilted_disc_is_pushed_away_from_its_buried_corner_more_as_it_tilts() {
+    // roll > 0 buries the -y edge: the crushed rock pushes the disc to +y
+    let mut last = 0.0;
+    for g in [0.0f64, 10.0, 20.0, 30.0, 45.0, 60.0] {
+        let m = fresh(1e-3, P_REF, g.to_radians());
+        let (n, s) = (m.cutting[0], m.cutting[2]);
+        assert!(s >= last, "tilt {g}: side {s} after {last}");
+        assert!(n > 0.3 * FN, "tilt {g}: normal {n}");
+        if g > 0.0 {
+            // the lateral load over the thrust grows like tan(g) at first:
+            // between 0.15 tan(g) and tan(g) up to 30 degrees
+            let t = g.to_radians().tan();
+            assert!(
+                s / n > 0.15 * t.min(0.6) && s / n < t,
+                "tilt {g}: S/N {}",
+                s / n
+            );
+        }
+        last = s;
+    }
+}
+
+/// Largest step of any cutting-force component between neighbours of a
+/// sweep, over FN.
+fn largest_step(means: &[Mean]) -> (f64, usize) {
+    let mut worst = (0.0, 0);
+    for (k, w) in means.windows(2).enumerate() {
+        let e = diff(w[0].cutting, w[1].cutting);
+        if e > worst.0 {
+            worst = (e, k);
+        }
+    }
+    worst
+}
+
+#[test]
+fn forces_move_smoothly_with_tilt_and_offset_where_the_old_law_jumped() {
+    // 8-12 degrees (the old law: 25 -> 5.8 kN side force between 10 and
+    // 12.5 degrees) and 1-3 mm beside a groove, in the issue's steps
+    let tilt: Vec<Mean> = (0..=8)
+        .map(|k| fresh(1e-3, P_REF, (8.0 + 0.5 * k as f64).to_radians()))
+        .collect();
+    let (e, k) = largest_step(&tilt);
+    assert!(e < 0.02, "tilt step {k}: {e}");
+    // beside a groove the height map's geometry itself steps where a node
+    // row of the old wall enters the cut (2.5 -> 2.6 mm at 1 mm cells: the
+    // removed cross-section jumps 8.4 -> 10.6 mm2 and the normal force by
+    // 2.1 % of FN); 2.5 % holds the law to the grid's own steps
+    let off: Vec<Mean> = (0..=20)
+        .map(|k| beside(1e-3, P_REF, 1e-3 + 1e-4 * k as f64))
+        .collect();
+    let (e, k) = largest_step(&off);
+    assert!(e < 0.025, "offset step {k}: {e}");
+}
+
+#[test]
+#[ignore = "slow: 141 tilted scenes (about a minute)"]
+fn full_tilt_sweep_0_to_70_degrees_is_continuous() {
+    let tilt: Vec<Mean> = (0..=140)
+        .map(|k| fresh(1e-3, P_REF, (0.5 * k as f64).to_radians()))
+        .collect();
+    let (e, k) = largest_step(&tilt);
+    eprintln!("largest step {e} at {} deg", 0.5 * k as f64);
+    assert!(e < 0.02, "tilt step at {} deg: {e}", 0.5 * k as f64);
+}
+
+#[test]
+#[ignore = "slow: 201 two-pass scenes (about a minute)"]
+fn full_offset_sweep_0_to_20_mm_is_continuous() {
+    let off: Vec<Mean> = (0..=200)
+        .map(|k| beside(1e-3, P_REF, 1e-4 * k as f64))
+        .collect();
+    let (e, k) = largest_step(&off);
+    eprintln!("largest step {e} at {} mm", 0.1 * k as f64);
+    assert!(e < 0.02, "offset step at {} mm: {e}", 0.1 * k as f64);
+}
+
+/// The scenes of the convergence requirement at cells of `cell`.
+fn convergence_scenes(cell: f64) -> Vec<(String, Mean)> {
+    let mut v = Vec::new();
+    for g in [0.0f64, 10.0, 30.0, 60.0, 70.0] {
+        v.push((format!("tilt {g}"), fresh(cell, P_REF, g.to_radians())));
+    }
+    for d in [0.0, 3.0, 6.5, 13.0] {
+        v.push((format!("beside {d}"), beside(cell, P_REF, d * 1e-3)));
+    }
+    for r in [0.1, 0.5, 2.0] {
+        v.push((format!("reroll r={r}"), reroll(cell, P_REF, Some(r))));
+    }
+    v
+}
+
+#[test]
+#[ignore = "slow: every scene at 1, 0.5 and 0.25 mm cells (several minutes)"]
+fn forces_converge_with_the_cell_size() {
+    let fine = convergence_scenes(0.25e-3);
+    let mid = convergence_scenes(0.5e-3);
+    let coarse = convergence_scenes(1e-3);
+    let mut worst = (0.0f64, 0.0f64);
+    for ((name, f), ((_, m), (_, c))) in fine.iter().zip(mid.iter().zip(coarse.iter())) {
+        let (em, ec) = (diff(m.cutting, f.cutting), diff(c.cutting, f.cutting));
+        eprintln!(
+            "{name:<14} 1 mm {ec:.4}  0.5 mm {em:.4}  (0.25 mm {:?})",
+            f.cutting
+        );
+        worst = (worst.0.max(ec), worst.1.max(em));
+    }
+    assert!(worst.0 < 0.02 && worst.1 < 0.005, "{worst:?}");
+}

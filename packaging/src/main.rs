@@ -9,6 +9,14 @@
 //! ```
 //!
 //! The archive is deterministic: fixed entry order, timestamps and permissions.
+//!
+//! `cargo run --release -p packaging -- --layout FILE.json [--drive head|discs]
+//! [--out PATH]` writes a cutterhead FMU instead (`target/fmu/NAME.fmu`, NAME
+//! from the layout): the same binary, a modelDescription.xml generated from
+//! kerf's and the layout (`head.rs`), and `resources/head.json` (GUID, drive,
+//! layout) that tells the binary it is that head.
+
+mod head;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -17,7 +25,7 @@ use std::process::{Command, ExitCode};
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
 
-type Res<T> = Result<T, String>;
+pub(crate) type Res<T> = Result<T, String>;
 
 fn main() -> ExitCode {
     match run() {
@@ -36,7 +44,54 @@ fn read(path: &Path) -> Res<Vec<u8>> {
     std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))
 }
 
+struct Args {
+    layout: Option<PathBuf>,
+    drive: kerf::core::head::Drive,
+    out: Option<PathBuf>,
+}
+
+fn args() -> Res<Args> {
+    let mut a = Args {
+        layout: None,
+        drive: kerf::core::head::Drive::Head,
+        out: None,
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(k) = it.next() {
+        let mut val = || it.next().ok_or_else(|| format!("{k} needs a value"));
+        match k.as_str() {
+            "--layout" => a.layout = Some(PathBuf::from(val()?)),
+            "--drive" => {
+                a.drive = match val()?.as_str() {
+                    "head" => kerf::core::head::Drive::Head,
+                    "discs" => kerf::core::head::Drive::Discs,
+                    other => return Err(format!("--drive {other}: must be head or discs")),
+                }
+            }
+            "--out" => a.out = Some(PathBuf::from(val()?)),
+            other => {
+                return Err(format!(
+                    "unknown argument {other} (usage: packaging [--layout FILE.json [--drive head|discs]] [--out PATH])"
+                ))
+            }
+        }
+    }
+    Ok(a)
+}
+
 fn run() -> Res<PathBuf> {
+    let args = args()?;
+    // check the layout before the (long) build
+    let layout = match &args.layout {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| format!("layout {}: cannot read: {e}", p.display()))?;
+            let l = kerf::core::layout::parse(&text, &p.display().to_string())
+                .map_err(|e| e.to_string())?;
+            Some((l, text))
+        }
+        None => None,
+    };
     let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let root = here
         .parent()
@@ -49,11 +104,15 @@ fn run() -> Res<PathBuf> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(&cargo)
         .current_dir(&root)
-        .args(["build", "--release", "--lib", "-p", "kerf"])
+        // the same package set as `cargo run -p packaging` (packaging depends on
+        // kerf): one feature resolution, so kerf is not built twice
+        .args(["build", "--release", "-p", "kerf", "-p", "packaging"])
         .status()
         .map_err(|e| format!("cannot run {}: {e}", cargo.to_string_lossy()))?;
     if !status.success() {
-        return Err(format!("cargo build --release --lib failed ({status})"));
+        return Err(format!(
+            "cargo build --release -p kerf -p packaging failed ({status})"
+        ));
     }
 
     let target = std::env::var_os("CARGO_TARGET_DIR")
@@ -73,14 +132,35 @@ fn run() -> Res<PathBuf> {
     if !template.contains("<!--VARIABLES-->") {
         return Err("packaging/doc/index.html lacks the <!--VARIABLES--> marker".into());
     }
-    let html = template.replace("<!--VARIABLES-->", &variable_table(&xml)?);
     let readme = read(&here.join("resources/README.txt"))?;
+    let mut extra: Vec<(&str, Vec<u8>)> = Vec::new();
+    let (xml_bytes, name) = match &layout {
+        None => (xml_bytes, "kerf".to_string()),
+        Some((l, text)) => {
+            let file = args.layout.as_ref().unwrap().display().to_string();
+            let (head_xml, guid) = head::model_description(&xml, l, args.drive, &file)?;
+            let manifest = kerf::fmi2::head_md::manifest(text, args.drive, &guid);
+            extra.push(("resources/head.json", manifest.into_bytes()));
+            extra.push(("resources/layout.json", text.clone().into_bytes()));
+            (head_xml.into_bytes(), l.name.clone())
+        }
+    };
+    let xml =
+        String::from_utf8(xml_bytes.clone()).map_err(|_| "modelDescription.xml is not UTF-8")?;
+    let html = template.replace("<!--VARIABLES-->", &variable_table(&xml)?);
 
     let out_dir = target.join("fmu");
+    let out = match &args.out {
+        Some(p) => p.clone(),
+        None => out_dir.join(format!("{name}.fmu")),
+    };
+    let out_dir = out
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
-    let out = out_dir.join("kerf.fmu");
-    let tmp = out_dir.join("kerf.fmu.tmp");
+    let tmp = out.with_extension("fmu.tmp");
     let file =
         std::fs::File::create(&tmp).map_err(|e| format!("cannot create {}: {e}", tmp.display()))?;
 
@@ -106,7 +186,10 @@ fn run() -> Res<PathBuf> {
         ("documentation/index.html", html.as_bytes(), 0o644),
         ("resources/README.txt", &readme, 0o644),
     ];
-    for (name, data, mode) in entries {
+    for (name, data, mode) in entries
+        .into_iter()
+        .chain(extra.iter().map(|(n, d)| (*n, d.as_slice(), 0o644)))
+    {
         zip.start_file(name, opts(mode)).map_err(z)?;
         zip.write_all(data)
             .map_err(|e| format!("writing {}: {e}", tmp.display()))?;
@@ -117,7 +200,7 @@ fn run() -> Res<PathBuf> {
     Ok(out)
 }
 
-fn escape(s: &str) -> String {
+pub(crate) fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")

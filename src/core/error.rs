@@ -23,6 +23,9 @@ pub enum KerfError {
     },
     /// A serialized state blob is corrupt, foreign or from another grid.
     BadState(String),
+    /// A head layout or one of its discs is invalid (the whole message:
+    /// file, cutter and key).
+    Layout(String),
     /// One call would do more work than a call may (sub-steps, nodes visited
     /// or written); the message says how to split it. Refused before
     /// anything changed.
@@ -47,6 +50,7 @@ impl fmt::Display for KerfError {
                 write!(f, "surface file {file}, line {line}: {what}")
             }
             KerfError::BadState(why) => write!(f, "FMU state rejected: {why}"),
+            KerfError::Layout(msg) => write!(f, "{msg}"),
             KerfError::TooMuchWork(why) => write!(f, "refused, nothing changed: {why}"),
         }
     }

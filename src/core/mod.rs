@@ -16,7 +16,14 @@ pub mod pose;
 
 mod model;
 
+pub mod disc;
+pub mod face;
+pub mod head;
+pub mod layout;
+
+pub use disc::{Disc, DiscState};
 pub use error::{KerfError, Result};
+pub use face::Face;
 pub use model::{
     friction_coefficient, friction_force, rim_speed, rim_spin_speed, rim_travel, Model, ModelState,
     Outputs,

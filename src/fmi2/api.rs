@@ -22,10 +22,11 @@ use std::sync::Mutex;
 
 use fmi_sys::fmi2::*;
 
-use super::instance::{mask, resource_dir, Instance, Kind, Mode, Res, Snapshot};
+use super::head::{head_manifest, HeadInstance};
+use super::head_dispatch::{AnySnapshot, Component};
+use super::instance::{mask, resource_dir, Instance, Kind, Res};
 use super::log::{guarded, Category, Logger, Status};
 use super::md;
-use super::state;
 
 const INSTANCE_MAGIC: u64 = u64::from_le_bytes(*b"kerfInst");
 const STATE_MAGIC: u64 = u64::from_le_bytes(*b"kerfStat");
@@ -33,13 +34,14 @@ const STATE_MAGIC: u64 = u64::from_le_bytes(*b"kerfStat");
 /// What an `fmi2Component` points to.
 struct InstanceBox {
     magic: u64,
-    inst: Instance,
+    /// kerf.fmu's single-disc instance or a cutterhead instance.
+    inst: Box<dyn Component>,
 }
 
 /// What an `fmi2FMUstate` points to.
 struct StateBox {
     magic: u64,
-    snap: Snapshot,
+    snap: AnySnapshot,
 }
 
 /// The instance behind `c`, if `c` looks like one of ours.
@@ -69,7 +71,7 @@ fn states() -> std::sync::MutexGuard<'static, BTreeMap<usize, usize>> {
 }
 
 /// A new FMU state owned by instance `c`.
-fn new_state(c: fmi2Component, snap: Snapshot) -> fmi2FMUstate {
+fn new_state(c: fmi2Component, snap: AnySnapshot) -> fmi2FMUstate {
     let p = Box::into_raw(Box::new(StateBox {
         magic: STATE_MAGIC,
         snap,
@@ -162,12 +164,16 @@ unsafe fn c_str<'a>(p: *const c_char) -> Option<&'a CStr> {
 }
 
 /// Runs `f` on the instance behind `c` with the panic guard; logs its error.
-fn with(c: fmi2Component, func: &str, f: impl FnOnce(&mut Instance) -> Res<Status>) -> fmi2Status {
+fn with(
+    c: fmi2Component,
+    func: &str,
+    f: impl FnOnce(&mut dyn Component) -> Res<Status>,
+) -> fmi2Status {
     // SAFETY: `c` comes from the host under the FMI 2.0 contract (module docs).
     let Some(b) = (unsafe { instance(c) }) else {
         return Status::Error.raw();
     };
-    match guarded(|| f(&mut b.inst)) {
+    match guarded(|| f(b.inst.as_mut())) {
         Ok(Ok(s)) => s.raw(),
         Ok(Err(msg)) => {
             b.inst.log_error(&msg);
@@ -175,7 +181,7 @@ fn with(c: fmi2Component, func: &str, f: impl FnOnce(&mut Instance) -> Res<Statu
         }
         Err(panic) => {
             // The instance may be half-updated: only reset, restore or free are safe now.
-            b.inst.mode = Mode::Error;
+            b.inst.set_error_mode();
             b.inst.log_error(&format!(
                 "{func}: internal error, the instance is now in the error state: {panic}"
             ));
@@ -184,7 +190,7 @@ fn with(c: fmi2Component, func: &str, f: impl FnOnce(&mut Instance) -> Res<Statu
     }
 }
 
-fn kind_check(i: &Instance, func: &str, kind: Kind) -> Res<()> {
+fn kind_check(i: &dyn Component, func: &str, kind: Kind) -> Res<()> {
     i.check_kind(func, kind)
 }
 
@@ -270,22 +276,46 @@ pub unsafe extern "C" fn fmi2Instantiate(
             x if x == fmi2Type_fmi2CoSimulation => Kind::CoSimulation,
             other => return fail(name, format!("unknown fmuType {other}")),
         };
-        match guid.map(CStr::to_bytes) {
-            Some(g) if g == md::GUID.as_bytes() => {}
-            Some(g) => {
-                return fail(
-                    name,
-                    format!(
-                        "GUID {} does not match this binary's {} (modelDescription.xml from another build?)",
-                        String::from_utf8_lossy(g),
-                        md::GUID
-                    ),
-                )
-            }
-            None => return fail(name, "fmuGUID is NULL".into()),
-        }
         let resources = resource_dir(location.and_then(|l| l.to_str().ok()));
-        let inst = Instance::new(name.to_owned(), kind, logger, resources, loggingOn != 0);
+        let inst: Box<dyn Component> = match guid.map(CStr::to_bytes) {
+            Some(g) if g == md::GUID.as_bytes() => Box::new(Instance::new(
+                name.to_owned(),
+                kind,
+                Logger::new(f.logger, f.componentEnvironment),
+                resources,
+                loggingOn != 0,
+            )),
+            Some(g) => match head_manifest(resources.as_deref()) {
+                // a cutterhead FMU: its GUID and layout are in resources/head.json
+                Some(Ok((head_guid, drive, layout))) if g == head_guid.as_bytes() => {
+                    match HeadInstance::new(
+                        name.to_owned(),
+                        kind,
+                        Logger::new(f.logger, f.componentEnvironment),
+                        resources,
+                        loggingOn != 0,
+                        head_guid,
+                        &layout,
+                        drive,
+                    ) {
+                        Ok(h) => Box::new(h),
+                        Err(e) => return fail(name, e),
+                    }
+                }
+                Some(Err(e)) => return fail(name, format!("head FMU resources: {e}")),
+                _ => {
+                    return fail(
+                        name,
+                        format!(
+                            "GUID {} does not match this binary's {} (modelDescription.xml from another build?)",
+                            String::from_utf8_lossy(g),
+                            md::GUID
+                        ),
+                    )
+                }
+            },
+            None => return fail(name, "fmuGUID is NULL".into()),
+        };
         let b = Box::new(InstanceBox {
             magic: INSTANCE_MAGIC,
             inst,
@@ -338,33 +368,29 @@ const _: fmi2SetupExperimentTYPE = Some(fmi2SetupExperiment);
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
-    with(
-        c,
-        "fmi2EnterInitializationMode",
-        Instance::enter_initialization_mode,
-    )
+    with(c, "fmi2EnterInitializationMode", |i| {
+        i.enter_initialization_mode()
+    })
 }
 const _: fmi2EnterInitializationModeTYPE = Some(fmi2EnterInitializationMode);
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
-    with(
-        c,
-        "fmi2ExitInitializationMode",
-        Instance::exit_initialization_mode,
-    )
+    with(c, "fmi2ExitInitializationMode", |i| {
+        i.exit_initialization_mode()
+    })
 }
 const _: fmi2ExitInitializationModeTYPE = Some(fmi2ExitInitializationMode);
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
-    with(c, "fmi2Terminate", Instance::terminate)
+    with(c, "fmi2Terminate", |i| i.terminate())
 }
 const _: fmi2TerminateTYPE = Some(fmi2Terminate);
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
-    with(c, "fmi2Reset", Instance::reset)
+    with(c, "fmi2Reset", |i| i.reset())
 }
 const _: fmi2ResetTYPE = Some(fmi2Reset);
 
@@ -504,7 +530,7 @@ pub unsafe extern "C" fn fmi2SetString(
         // SAFETY: `vr` and `value` have `nvr` elements (FMI contract).
         let (vrs, vals) = unsafe { (input(vr, nvr, F, "vr")?, input(value, nvr, F, "value")?) };
         // SAFETY: each entry is NULL or a NUL-terminated string.
-        i.set_string(vrs, |k| unsafe { c_str(vals[k]) })
+        i.set_string(vrs, &|k| unsafe { c_str(vals[k]) })
     })
 }
 const _: fmi2SetStringTYPE = Some(fmi2SetString);
@@ -587,7 +613,7 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
         let b = unsafe { snapshot(FMUstate) }
             .ok_or_else(|| format!("{F}: FMUstate is NULL or not an FMU state of kerf"))?;
         let size = unsafe { out_one(size, F, "size") }?;
-        *size = b.snap.encoded.get_or_init(|| state::encode(&b.snap)).len();
+        *size = i.encoded(&b.snap)?.len();
         Ok(Status::Ok)
     })
 }
@@ -606,7 +632,7 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
         // SAFETY: state from this FMU (FMI contract).
         let b = unsafe { snapshot(FMUstate) }
             .ok_or_else(|| format!("{F}: FMUstate is NULL or not an FMU state of kerf"))?;
-        let bytes = b.snap.encoded.get_or_init(|| state::encode(&b.snap));
+        let bytes = i.encoded(&b.snap)?;
         if size < bytes.len() {
             return Err(format!(
                 "{F}: size = {size}, but the state needs {} bytes (fmi2SerializedFMUstateSize)",
@@ -646,9 +672,10 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
                 out_one(FMUstate, F, "FMUstate")?,
             )
         };
-        let snap = state::decode(bytes, i.resources.as_deref())
+        let snap = i
+            .decode(bytes)
             .map_err(|e| format!("{F}: state rejected: {e}"))?;
-        kind_check(i, F, snap.kind).map_err(|_| {
+        kind_check(i, F, snap.kind()).map_err(|_| {
             format!("{F}: state rejected: it was taken from another interface type")
         })?;
         *slot = new_state(c, snap);
@@ -691,7 +718,7 @@ const _: fmi2GetDirectionalDerivativeTYPE = Some(fmi2GetDirectionalDerivative);
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2EnterEventMode(c: fmi2Component) -> fmi2Status {
-    with(c, "fmi2EnterEventMode", Instance::enter_event_mode)
+    with(c, "fmi2EnterEventMode", |i| i.enter_event_mode())
 }
 const _: fmi2EnterEventModeTYPE = Some(fmi2EnterEventMode);
 
@@ -720,11 +747,9 @@ const _: fmi2NewDiscreteStatesTYPE = Some(fmi2NewDiscreteStates);
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2Status {
-    with(
-        c,
-        "fmi2EnterContinuousTimeMode",
-        Instance::enter_continuous_time_mode,
-    )
+    with(c, "fmi2EnterContinuousTimeMode", |i| {
+        i.enter_continuous_time_mode()
+    })
 }
 const _: fmi2EnterContinuousTimeModeTYPE = Some(fmi2EnterContinuousTimeMode);
 
@@ -917,7 +942,7 @@ const _: fmi2CancelStepTYPE = Some(fmi2CancelStep);
 fn status_query(
     c: fmi2Component,
     func: &str,
-    f: impl FnOnce(&mut Instance) -> Res<Status>,
+    f: impl FnOnce(&mut dyn Component) -> Res<Status>,
 ) -> fmi2Status {
     with(c, func, |i| {
         kind_check(i, func, Kind::CoSimulation)?;

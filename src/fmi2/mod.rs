@@ -15,6 +15,9 @@
 //! independent and may run on different threads.
 
 mod api;
+mod head;
+mod head_dispatch;
+pub mod head_md;
 mod instance;
 mod log;
 pub mod md;

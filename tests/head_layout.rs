@@ -1,0 +1,154 @@
+//! Layout files: the contract's example parses; bad files are rejected with
+//! messages that name the file, the cutter and the key.
+
+use kerf::core::head::{default_rock, DiscSpec, Head};
+use kerf::core::layout::{load, parse};
+use kerf::core::Params;
+
+const EXAMPLE: &str = r#"{
+  "name": "head-demo",
+  "disc": {"radius": 0.2159, "tipWidth": 0.013, "tipRadius": 0.0127},
+  "cutters": [
+    {"track": 0.30, "angleDeg": 0,   "tiltDeg": 0,  "setback": 0.0, "spacing": 0.085},
+    {"track": 2.95, "angleDeg": 137, "tiltDeg": 35, "setback": 0.02, "spacing": 0.06,
+     "disc": {"radius": 0.2413}}
+  ]
+}"#;
+
+#[test]
+fn the_contract_example_parses() {
+    let l = parse(EXAMPLE, "x.json").unwrap();
+    assert_eq!(l.name, "head-demo");
+    assert_eq!(l.cutters.len(), 2);
+    let c = &l.cutters[1];
+    assert_eq!(
+        (c.track, c.angle_deg, c.tilt_deg, c.setback, c.spacing),
+        (2.95, 137.0, 35.0, 0.02, 0.06)
+    );
+    // the cutter's own disc overrides the default key by key
+    assert_eq!(c.disc.radius, 0.2413);
+    assert_eq!(c.disc.tip_width, 0.013);
+    assert_eq!(l.cutters[0].disc.radius, 0.2159);
+    // reach: the tilted gauge disc leans out by R sin(35 deg)
+    let want = 2.95 + 0.2413 * 35f64.to_radians().sin() + 0.0065 * 35f64.to_radians().cos();
+    assert!((l.reach() - want).abs() < 1e-12);
+    let (half, n) = default_rock(&l);
+    assert!(half >= want + 0.02 && half < want + 0.021, "{half}");
+    assert_eq!(n, (2000.0 * half).round() as usize + 1);
+}
+
+fn err(text: &str) -> String {
+    parse(text, "bad.json").unwrap_err().to_string()
+}
+
+fn with_cutter(c: &str) -> String {
+    format!(
+        r#"{{"name": "h", "disc": {{"radius": 0.2159, "tipWidth": 0.013, "tipRadius": 0.0127}},
+        "cutters": [{{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08}}, {c}]}}"#
+    )
+}
+
+#[test]
+fn bad_layouts_name_file_cutter_and_key() {
+    let cases: &[(&str, &str)] = &[
+        (
+            r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0}"#,
+            "layout bad.json: cutter 2: key \"spacing\": missing",
+        ),
+        (
+            r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08, "tilt": 3}"#,
+            "layout bad.json: cutter 2: key \"tilt\": unknown key",
+        ),
+        (
+            r#"{"track": -0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08}"#,
+            "layout bad.json: cutter 2: key \"track\": -0.3 is out of range [0, 10]",
+        ),
+        (
+            r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 95, "setback": 0, "spacing": 0.08}"#,
+            "layout bad.json: cutter 2: key \"tiltDeg\": 95 is out of range [-75, 75]",
+        ),
+        (
+            r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0}"#,
+            "layout bad.json: cutter 2: key \"spacing\": 0 is out of range (0, 1]",
+        ),
+        (
+            r#"{"track": 0.3, "angleDeg": "east", "tiltDeg": 0, "setback": 0, "spacing": 0.08}"#,
+            "layout bad.json: cutter 2: key \"angleDeg\": must be a number",
+        ),
+        (
+            r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08, "disc": {"radius": -1}}"#,
+            "layout bad.json: cutter 2: key \"disc.radius\": -1 is out of range (0, 1]",
+        ),
+        (
+            r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08, "disc": {"tipWidth": 0.03}}"#,
+            "layout bad.json: cutter 2: key \"disc.tipWidth\": 0.03 exceeds 2 * tipRadius",
+        ),
+        (
+            r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08, "disc": {"rim": 0.03}}"#,
+            "layout bad.json: cutter 2: key \"disc.rim\": unknown key",
+        ),
+    ];
+    for (c, want) in cases {
+        let got = err(&with_cutter(c));
+        assert!(got.starts_with(want), "\n got: {got}\nwant: {want}...");
+    }
+    // head-level keys
+    assert!(
+        err(r#"{"disc": {}, "cutters": []}"#).starts_with("layout bad.json: key \"name\": missing")
+    );
+    assert!(err(r#"{"name": "a b", "disc": {}, "cutters": []}"#)
+        .starts_with("layout bad.json: key \"name\": \"a b\" must be"));
+    assert!(err(r#"{"name": "a", "cutters": []}"#)
+        .starts_with("layout bad.json: key \"disc\": missing"));
+    assert!(
+        err(r#"{"name": "a", "disc": {"radius": 0.2}, "cutters": []}"#)
+            .starts_with("layout bad.json: key \"disc.tipWidth\": missing")
+    );
+    assert!(err(r#"{"name": "a", "disc": {"radius": 0.2, "tipWidth": 0.01, "tipRadius": 0.01}, "cutters": []}"#)
+        .starts_with("layout bad.json: key \"cutters\": must hold 1 to 500 cutters, holds 0"));
+    assert!(err(r#"{"name": "a", "disc": {"radius": 0.2, "tipWidth": 0.01, "tipRadius": 0.01}, "cutters": [], "rpm": 3}"#)
+        .starts_with("layout bad.json: key \"rpm\": unknown key"));
+    assert!(err("{").starts_with("layout bad.json: not valid JSON"));
+    let e = load(std::path::Path::new("/nonexistent/h.json"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("layout /nonexistent/h.json: cannot read"),
+        "{e}"
+    );
+}
+
+#[test]
+fn bad_disc_parameters_name_the_cutter() {
+    let l = parse(EXAMPLE, "x.json").unwrap();
+    let mut specs: Vec<DiscSpec> = l.cutters.iter().map(DiscSpec::from_layout).collect();
+    specs[1].cutter.tip_radius = 0.3;
+    let e = Head::new(Params::default(), specs.clone())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.starts_with("parameter cutter[2].tipRadius = 0.3"), "{e}");
+    specs[1].cutter.tip_radius = 0.0127;
+    specs[0].mount.tilt = 2.0;
+    let e = Head::new(Params::default(), specs)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.starts_with("parameter cutter[1].tilt = 2"), "{e}");
+}
+
+#[test]
+fn shipped_layouts_parse() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "json") {
+            let l = load(&p).unwrap();
+            let specs: Vec<DiscSpec> = l.cutters.iter().map(DiscSpec::from_layout).collect();
+            Head::new(Params::default(), specs).unwrap();
+            n += 1;
+        }
+    }
+    assert!(n >= 2, "layouts/ holds {n} layouts");
+}

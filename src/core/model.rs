@@ -13,7 +13,9 @@ use super::cut_cutter_heightmap::{cut, window_nodes, would_cut};
 use super::cutter::PosedDisc;
 use super::error::{KerfError, Result};
 use super::heightmap::{Grid, HeightMap, TILE};
-use super::params::{DirectionRule, Params, MAX_NODE_VISITS_PER_CALL, MAX_SUBSTEPS_PER_CALL};
+use super::params::{
+    DirectionRule, Params, MAX_NODE_VISITS_PER_CALL, MAX_SUBSTEPS_PER_CALL, TILTED_NODE_WEIGHT,
+};
 use super::pose::{advance_pose, Pose, Twist};
 use super::rsf;
 
@@ -645,7 +647,14 @@ impl Model {
         let mut visits = 0.0;
         for p in poses {
             p.validate()?;
-            visits += window_nodes(&self.state.map, &self.disc(&p)) as f64;
+            let d = self.disc(&p);
+            // a tilted axle finds each node's lower boundary by Newton steps
+            let w = if d.rot[(2, 1)].abs() > 1e-12 {
+                TILTED_NODE_WEIGHT
+            } else {
+                1.0
+            };
+            visits += w * window_nodes(&self.state.map, &d) as f64;
         }
         if visits <= MAX_NODE_VISITS_PER_CALL {
             return Ok(());

@@ -89,6 +89,7 @@ fn check_bounds(vars: &[Var]) {
         MIN_SWEEP_STEP_CELLS,
         MAX_SUBSTEPS_PER_CALL,
         MAX_NODE_VISITS_PER_CALL,
+        TILTED_NODE_WEIGHT,
         MAX_SURFACE_LINES,
         MAX_SURFACE_LINE_BYTES,
     );

@@ -87,3 +87,31 @@ fn a_refused_event_commit_changes_nothing() {
     assert!(e.contains("split it into at least"), "{e}");
     assert_eq!(before, observe(&fmu));
 }
+
+/// The height map's undo record: a rollback puts back exactly the tiles
+/// written since `begin_undo` (new ones and shared ones alike), a commit
+/// keeps the writes, and a snapshot taken before is untouched either way.
+#[test]
+fn height_map_rollback_restores_what_was_written() {
+    use kerf::core::heightmap::{Grid, HeightMap};
+    let g = Grid::new(0.0, 1.0, 0.0, 1.0, 101, 101);
+    let mut m = HeightMap::flat(g, 0.0);
+    m.set_node(3, 3, -0.5);
+    let before = m.clone();
+    m.begin_undo();
+    m.set_node(3, 3, -1.0); // a tile that existed (shared with `before`)
+    m.set_node(4, 3, -1.0);
+    m.set_node(90, 90, -2.0); // a tile that did not
+    assert_ne!(m, before);
+    m.rollback();
+    assert_eq!(m, before);
+    assert_eq!(m.node(3, 3), -0.5);
+    assert_eq!(m.node(90, 90), 0.0);
+    assert_eq!(m.allocated_tiles(), before.allocated_tiles());
+    m.begin_undo();
+    m.set_node(50, 50, -3.0);
+    m.commit_undo();
+    m.rollback(); // nothing recorded any more
+    assert_eq!(m.node(50, 50), -3.0);
+    assert_eq!(before.node(50, 50), 0.0);
+}

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import subprocess
 from ctypes import byref
 from dataclasses import dataclass
@@ -345,6 +346,26 @@ def load_rsf(path):
     L = a[:, 0].astype(int)
     K = a[:, 1].astype(int)
     nx, ny = L.max(), K.max()
+    # the comment lines: the grid, and (sparse files) the height of unlisted nodes
+    grid, base = None, None
+    with open(path) as f:
+        for line in f:
+            if not line.startswith("#"):
+                break
+            m = re.match(r"# grid nx=(\d+) ny=(\d+) x=\[(\S+), (\S+)\] y=\[(\S+), (\S+)\]", line)
+            if m:
+                grid = (int(m[1]), int(m[2]), *map(float, m.groups()[2:]))
+            if line.startswith("# sparse: unlisted nodes are at z0 ="):
+                base = float(line.split("=")[-1])
+    if base is not None:
+        if grid is None:
+            raise ValueError(f"{path}: a sparse surface without its `# grid` line")
+        nx, ny, x0, x1, y0, y1 = grid
+        xs, ys = np.linspace(x0, x1, nx), np.linspace(y0, y1, ny)
+        X, Y = np.meshgrid(xs, ys, indexing="ij")
+        Z = np.full((nx, ny), base)
+        Z[L - 1, K - 1] = a[:, 4]
+        return X, Y, Z
     X = np.full((nx, ny), np.nan)
     Y = np.full((nx, ny), np.nan)
     Z = np.full((nx, ny), np.nan)

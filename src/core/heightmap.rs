@@ -13,6 +13,10 @@
 //! the first write to a shared tile copies that tile only. A host that saves
 //! the state before every step therefore pays for the tiles the step cuts,
 //! not for the face.
+//!
+//! A step's undo record ([`HeightMap::begin_undo`]) keeps, for each tile the
+//! step writes, the tile as it was before its first write: rolling back costs
+//! what the step touched, never the directory.
 
 use std::sync::Arc;
 
@@ -152,6 +156,16 @@ pub struct HeightMap {
     tiles_x: usize,
     tiles_y: usize,
     tiles: Vec<Option<Tile>>,
+    /// While a change may still be rolled back: the tiles it wrote, as they
+    /// were before.
+    undo: Option<Undo>,
+}
+
+#[derive(Debug, Clone, PartialEq, Default)]
+struct Undo {
+    /// The tile written last (most writes hit it again: no lookup).
+    last: Option<usize>,
+    saved: std::collections::HashMap<usize, Option<Tile>>,
 }
 
 /// A point query on the surface: height and slopes of the triangle (eqs 27-32).
@@ -173,6 +187,7 @@ impl HeightMap {
             tiles_x,
             tiles_y,
             tiles: vec![None; tiles_x * tiles_y],
+            undo: None,
         }
     }
 
@@ -214,7 +229,15 @@ impl HeightMap {
         }
     }
 
+    /// Tile `t` for writing (allocated on first write), recorded first in the
+    /// undo record when one is open.
     fn tile_mut(&mut self, t: usize) -> &mut Tile {
+        if let Some(u) = &mut self.undo {
+            if u.last != Some(t) {
+                u.saved.entry(t).or_insert_with(|| self.tiles[t].clone());
+                u.last = Some(t);
+            }
+        }
         let z0 = self.z0;
         self.tiles[t].get_or_insert_with(|| Tile {
             d: Arc::new(TileData {
@@ -391,6 +414,26 @@ impl HeightMap {
 
     pub fn tile_count(&self) -> usize {
         self.tiles.len()
+    }
+
+    /// Starts recording what the writes change, for [`HeightMap::rollback`].
+    pub fn begin_undo(&mut self) {
+        self.undo = Some(Undo::default());
+    }
+
+    /// Keeps the writes since [`HeightMap::begin_undo`] and stops recording.
+    pub fn commit_undo(&mut self) {
+        self.undo = None;
+    }
+
+    /// Puts back every tile written since [`HeightMap::begin_undo`] and
+    /// stops recording.
+    pub fn rollback(&mut self) {
+        if let Some(u) = self.undo.take() {
+            for (t, tile) in u.saved {
+                self.tiles[t] = tile;
+            }
+        }
     }
 
     /// Restores a tile written by [`HeightMap::touched_tiles`].

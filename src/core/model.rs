@@ -13,7 +13,9 @@ use super::cut_cutter_heightmap::{cut, window_nodes, would_cut};
 use super::cutter::PosedDisc;
 use super::error::{KerfError, Result};
 use super::heightmap::{Grid, HeightMap, TILE};
-use super::params::{DirectionRule, Params, MAX_NODE_VISITS_PER_CALL, MAX_SUBSTEPS_PER_CALL};
+use super::params::{
+    DirectionRule, Params, MAX_NODE_VISITS_PER_CALL, MAX_SUBSTEPS_PER_CALL, TILTED_NODE_WEIGHT,
+};
 use super::pose::{advance_pose, Pose, Twist};
 use super::rsf;
 
@@ -683,21 +685,32 @@ impl Model {
 
     /// Runs `f`, a change of the discrete state, all or nothing: on an
     /// error (or a panic, which goes on unwinding) the state and the
-    /// evaluation cache are put back as they were.
+    /// evaluation cache are put back as they were. The height map records
+    /// the tiles it writes and puts those back, so the cost is what the
+    /// change touched, not the face.
     fn transaction<T>(&mut self, f: impl FnOnce(&mut Self) -> Result<T>) -> Result<T> {
-        let saved = (self.state.clone(), self.cache.get());
-        match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(self))) {
-            Ok(Ok(v)) => Ok(v),
-            Ok(Err(e)) => {
-                self.state = saved.0;
-                self.cache.set(saved.1);
-                Err(e)
-            }
-            Err(panic) => {
-                self.state = saved.0;
-                self.cache.set(saved.1);
-                std::panic::resume_unwind(panic)
-            }
+        let s = &self.state;
+        let saved = (
+            s.excavated_volume,
+            s.cutting_energy,
+            s.last_cut,
+            s.chips,
+            self.cache.get(),
+        );
+        self.state.map.begin_undo();
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(self)));
+        if let Ok(Ok(_)) = r {
+            self.state.map.commit_undo();
+        } else {
+            self.state.map.rollback();
+            let s = &mut self.state;
+            (s.excavated_volume, s.cutting_energy, s.last_cut, s.chips) =
+                (saved.0, saved.1, saved.2, saved.3);
+            self.cache.set(saved.4);
+        }
+        match r {
+            Ok(v) => v,
+            Err(panic) => std::panic::resume_unwind(panic),
         }
     }
 
@@ -723,7 +736,14 @@ impl Model {
         let mut visits = 0.0;
         for p in poses {
             p.validate()?;
-            visits += window_nodes(&self.state.map, &self.disc(&p)) as f64;
+            let d = self.disc(&p);
+            // a tilted axle finds each node's lower boundary by Newton steps
+            let w = if d.rot[(2, 1)].abs() > 1e-12 {
+                TILTED_NODE_WEIGHT
+            } else {
+                1.0
+            };
+            visits += w * window_nodes(&self.state.map, &d) as f64;
         }
         if visits <= MAX_NODE_VISITS_PER_CALL {
             return Ok(());

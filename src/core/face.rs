@@ -103,7 +103,12 @@ pub(crate) mod blob {
 
     /// Grid, base height, excavated volume and cutting energy.
     pub fn face_header(v: &mut Vec<u8>, face: &Face) {
-        let g = face.map.grid();
+        rock_header(v, &face.map, face.excavated_volume, face.cutting_energy);
+    }
+
+    /// [`face_header`] from its parts (the one-disc model's state).
+    pub fn rock_header(v: &mut Vec<u8>, map: &HeightMap, excavated: f64, energy: f64) {
+        let g = map.grid();
         u64s(v, &[g.nx as u64, g.ny as u64]);
         f64s(
             v,
@@ -112,9 +117,9 @@ pub(crate) mod blob {
                 g.y_min,
                 g.dx,
                 g.dy,
-                face.map.base_height(),
-                face.excavated_volume,
-                face.cutting_energy,
+                map.base_height(),
+                excavated,
+                energy,
             ],
         );
     }

@@ -11,8 +11,10 @@ use super::contact_thesis::contact_thesis;
 use super::csm::CsmLaw;
 use super::cut_cutter_heightmap::{cut, window_nodes, would_cut};
 use super::cutter::PosedDisc;
+use super::disc::DiscState;
 use super::error::{KerfError, Result};
-use super::heightmap::{Grid, HeightMap, TILE};
+use super::face::blob;
+use super::heightmap::{Grid, HeightMap};
 use super::params::{
     DirectionRule, Params, MAX_NODE_VISITS_PER_CALL, MAX_SUBSTEPS_PER_CALL, TILTED_NODE_WEIGHT,
 };
@@ -73,199 +75,54 @@ fn grid_of(params: &Params) -> Grid {
 
 impl ModelState {
     /// Versioned little-endian binary form: magic, version, grid, bookkeeping,
-    /// then the touched tiles only.
+    /// last cut and chips, then the touched tiles only (the layout of
+    /// `face::blob`, which the cutterhead's state shares).
     pub fn to_bytes(&self) -> Vec<u8> {
-        let g = self.map.grid();
-        let tiles: Vec<(usize, &[f64], &[u64])> = self.map.touched_tiles().collect();
-        let mut v = Vec::with_capacity(
-            96 + tiles.len() * (8 + TILE * TILE * 8 + HeightMap::MASK_WORDS * 8),
-        );
+        let mut v = Vec::new();
         v.extend_from_slice(MAGIC);
         v.extend_from_slice(&VERSION.to_le_bytes());
-        for n in [g.nx as u64, g.ny as u64] {
-            v.extend_from_slice(&n.to_le_bytes());
-        }
-        for x in [
-            g.x_min,
-            g.y_min,
-            g.dx,
-            g.dy,
-            self.map.base_height(),
+        blob::rock_header(
+            &mut v,
+            &self.map,
             self.excavated_volume,
             self.cutting_energy,
-        ] {
-            v.extend_from_slice(&x.to_le_bytes());
-        }
-        match self.last_cut {
-            Some(p) => {
-                v.push(1);
-                for x in [
-                    p.position.x,
-                    p.position.y,
-                    p.position.z,
-                    p.yaw,
-                    p.pitch,
-                    p.roll,
-                ] {
-                    v.extend_from_slice(&x.to_le_bytes());
-                }
-            }
-            None => v.push(0),
-        }
-        let c = &self.chips;
-        for x in [c.travel, c.next, c.volume] {
-            v.extend_from_slice(&x.to_le_bytes());
-        }
-        for n in [c.index, c.count] {
-            v.extend_from_slice(&n.to_le_bytes());
-        }
-        match c.last_low {
-            Some(p) => {
-                v.push(1);
-                for x in p {
-                    v.extend_from_slice(&x.to_le_bytes());
-                }
-            }
-            None => v.push(0),
-        }
-        v.extend_from_slice(&(tiles.len() as u64).to_le_bytes());
-        for (k, z, cut) in tiles {
-            v.extend_from_slice(&(k as u64).to_le_bytes());
-            for x in z {
-                v.extend_from_slice(&x.to_le_bytes());
-            }
-            for w in cut {
-                v.extend_from_slice(&w.to_le_bytes());
-            }
-        }
+        );
+        blob::disc_state(
+            &mut v,
+            &DiscState {
+                last_cut: self.last_cut,
+                chips: self.chips.clone(),
+            },
+        );
+        blob::tiles(&mut v, &self.map);
         v
     }
 
     /// Inverse of [`ModelState::to_bytes`]; rejects corrupt or foreign blobs
-    /// and blobs made for another height-map grid.
+    /// and blobs made for another height-map grid, checking the sizes
+    /// against the blob and the grid before anything is built.
     pub fn from_bytes(bytes: &[u8], params: &Params) -> Result<Self> {
         let bad = |why: &str| KerfError::BadState(why.to_string());
         params.validate()?;
-        let pos = Cell::new(0usize);
-        let take = |n: usize| -> Result<&[u8]> {
-            let s = bytes
-                .get(pos.get()..pos.get() + n)
-                .ok_or_else(|| bad("the blob is truncated"))?;
-            pos.set(pos.get() + n);
-            Ok(s)
-        };
-        if take(8)? != MAGIC {
+        let mut r = blob::Reader::new(bytes);
+        if r.take(8)? != MAGIC {
             return Err(bad("not a kerf state (wrong magic)"));
         }
-        let version = u32::from_le_bytes(take(4)?.try_into().unwrap());
+        let version = r.u32()?;
         if version != VERSION {
             return Err(KerfError::BadState(format!(
                 "state version {version}, this build reads {VERSION}"
             )));
         }
-        let mut u64s = [0u64; 2];
-        for u in &mut u64s {
-            *u = u64::from_le_bytes(take(8)?.try_into().unwrap());
-        }
-        let mut f = [0f64; 7];
-        for x in &mut f {
-            *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
-        }
         let grid = grid_of(params);
-        let same = u64s[0] == grid.nx as u64
-            && u64s[1] == grid.ny as u64
-            && f[0] == grid.x_min
-            && f[1] == grid.y_min
-            && f[2] == grid.dx
-            && f[3] == grid.dy
-            && f[4] == params.rock.z0;
-        if !same {
-            return Err(bad("the state was saved for another rock grid"));
-        }
-        if !(f[5].is_finite() && f[6].is_finite()) {
-            return Err(bad("non-finite bookkeeping"));
-        }
-        let last_cut = match take(1)?[0] {
-            0 => None,
-            1 => {
-                let mut q = [0f64; 6];
-                for x in &mut q {
-                    *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
-                }
-                let pose = Pose::new(q[0], q[1], q[2], q[3], q[4], q[5]);
-                pose.validate()
-                    .map_err(|_| bad("non-finite last cut pose"))?;
-                Some(pose)
-            }
-            _ => return Err(bad("bad last-cut flag")),
-        };
-        let mut cf = [0f64; 3];
-        for x in &mut cf {
-            *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
-        }
-        let index = u64::from_le_bytes(take(8)?.try_into().unwrap());
-        let count = u64::from_le_bytes(take(8)?.try_into().unwrap());
-        let last_low = match take(1)?[0] {
-            0 => None,
-            1 => {
-                let mut q = [0f64; 3];
-                for x in &mut q {
-                    *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
-                }
-                Some(q)
-            }
-            _ => return Err(bad("bad chip flag")),
-        };
-        if !cf
-            .iter()
-            .chain(last_low.iter().flatten())
-            .all(|x| x.is_finite())
-        {
-            return Err(bad("non-finite chip state"));
-        }
-        let [travel, next, volume] = cf;
-        let chips = ChipState {
-            travel,
-            index,
-            next,
-            last_low,
-            count,
-            volume,
-        };
-        let n = u64::from_le_bytes(take(8)?.try_into().unwrap());
-        // sizes against the blob and the grid before anything is built
-        let tile_bytes = (8 + TILE * TILE * 8 + HeightMap::MASK_WORDS * 8) as u64;
-        if n.checked_mul(tile_bytes) != Some((bytes.len() - pos.get()) as u64) {
-            return Err(bad("the tile count does not match the blob's size"));
-        }
-        let tiles = grid.nx.div_ceil(TILE) as u64 * grid.ny.div_ceil(TILE) as u64;
-        if n > tiles {
-            return Err(bad("more tiles than the grid has"));
-        }
-        let mut map = HeightMap::flat(grid, params.rock.z0);
-        let mut z = vec![0.0; TILE * TILE];
-        let mut cut = vec![0u64; HeightMap::MASK_WORDS];
-        for _ in 0..n {
-            let k = u64::from_le_bytes(take(8)?.try_into().unwrap()) as usize;
-            for x in z.iter_mut() {
-                *x = f64::from_le_bytes(take(8)?.try_into().unwrap());
-                if !x.is_finite() {
-                    return Err(bad("non-finite height"));
-                }
-            }
-            for w in cut.iter_mut() {
-                *w = u64::from_le_bytes(take(8)?.try_into().unwrap());
-            }
-            map.load_tile(k, &z, &cut)
-                .ok_or_else(|| bad("tile index out of range"))?;
-        }
-        if pos.get() != bytes.len() {
-            return Err(bad("trailing bytes"));
-        }
+        let (excavated_volume, cutting_energy) = r.face_header(&grid, params.rock.z0)?;
+        let DiscState { last_cut, chips } = r.disc_state()?;
+        let map = r.tiles(grid, params.rock.z0)?;
+        r.end()?;
         Ok(Self {
             map,
-            excavated_volume: f[5],
-            cutting_energy: f[6],
+            excavated_volume,
+            cutting_energy,
             last_cut,
             chips,
         })

@@ -18,6 +18,7 @@ use crate::core::{Params, Pose, Twist};
 use super::head_md::{self, HeadVar, Slot, Ty};
 use super::instance::{kind_name, mask, EventInfo, Files, Kind, Mode, Res, Values};
 use super::log::{Category, Logger, Status};
+use super::machine::{check_kind, check_mode, mode_name, LogSwitches};
 use super::md::{self, Causality};
 use super::state::fnv1a64;
 
@@ -90,7 +91,7 @@ pub struct HeadInstance {
     pub(crate) name: CString,
     pub(crate) kind: Kind,
     pub(crate) logger: Logger,
-    log_on: Vec<bool>,
+    log_on: LogSwitches,
     pub(crate) resources: Option<PathBuf>,
     pub(crate) mode: Mode,
     guid: String,
@@ -170,13 +171,7 @@ impl HeadInstance {
                 _ => {}
             }
         }
-        let log_on = md::LOG_CATEGORIES
-            .iter()
-            .map(|c| match *c {
-                "logStatusError" | "logStatusWarning" => true,
-                _ => logging_on,
-            })
-            .collect();
+        let log_on = LogSwitches::new(logging_on);
         let pose_flags = match drive {
             Drive::Head => 1,
             Drive::Discs => n,
@@ -218,11 +213,7 @@ impl HeadInstance {
     // ---- logging ------------------------------------------------------
 
     fn log_enabled(&self, cat: Category) -> bool {
-        let name = cat.name();
-        md::LOG_CATEGORIES
-            .iter()
-            .position(|c| *c == name)
-            .is_some_and(|i| self.log_on[i])
+        self.log_on.enabled(cat)
     }
 
     pub fn log(&self, status: Status, cat: Category, msg: &str) {
@@ -244,55 +235,18 @@ impl HeadInstance {
 
     pub fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> Res<Status> {
         self.check("fmi2SetDebugLogging", mask::ANY)?;
-        if categories.is_empty() {
-            self.log_on.iter_mut().for_each(|b| *b = on);
-            return Ok(Status::Ok);
-        }
-        let mut idx = Vec::new();
-        for c in categories {
-            match md::LOG_CATEGORIES.iter().position(|k| k == c) {
-                Some(i) => idx.push(i),
-                None => {
-                    return Err(format!(
-                        "fmi2SetDebugLogging: unknown log category \"{c}\" (known: {})",
-                        md::LOG_CATEGORIES.join(", ")
-                    ))
-                }
-            }
-        }
-        for i in idx {
-            if md::LOG_CATEGORIES[i] == "logAll" {
-                self.log_on.iter_mut().for_each(|b| *b = on);
-            } else {
-                self.log_on[i] = on;
-            }
-        }
+        self.log_on.set(on, categories)?;
         Ok(Status::Ok)
     }
 
     // ---- state machine ------------------------------------------------
 
-    pub fn check(&self, func: &str, m: u32) -> Res<()> {
-        if (1u32 << (self.mode as u32)) & m != 0 {
-            Ok(())
-        } else {
-            Err(format!(
-                "{func}: illegal call sequence: not allowed in {}",
-                mode_name(self.mode)
-            ))
-        }
+    pub fn check(&self, func: &str, mask: u32) -> Res<()> {
+        check_mode(self.mode, func, mask)
     }
 
     pub fn check_kind(&self, func: &str, kind: Kind) -> Res<()> {
-        if self.kind == kind {
-            Ok(())
-        } else {
-            Err(format!(
-                "{func}: only for {} instances; this one was instantiated for {}",
-                kind_name(kind),
-                kind_name(self.kind)
-            ))
-        }
+        check_kind(self.kind, func, kind)
     }
 
     pub fn setup_experiment(
@@ -1156,18 +1110,6 @@ impl<'a> Rd<'a> {
     }
     fn b1(&mut self) -> Res<u8> {
         Ok(self.take(1)?[0])
-    }
-}
-
-fn mode_name(m: Mode) -> &'static str {
-    match m {
-        Instantiated => "the instantiated state",
-        InitializationMode => "initialization mode",
-        EventMode => "event mode",
-        ContinuousTimeMode => "continuous-time mode",
-        StepComplete => "the step-complete state",
-        Terminated => "the terminated state",
-        Error => "the error state (call fmi2Reset, fmi2SetFMUstate or fmi2FreeInstance)",
     }
 }
 

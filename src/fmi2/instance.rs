@@ -18,6 +18,7 @@ use crate::core::{
 };
 
 use super::log::{Category, Logger, Status};
+use super::machine::{check_kind, check_mode, mode_name, LogSwitches};
 use super::md::{self, vr, Causality};
 
 /// Which interface the instance was instantiated for.
@@ -44,7 +45,7 @@ pub enum Mode {
 }
 
 impl Mode {
-    const fn bit(self) -> u32 {
+    pub(crate) const fn bit(self) -> u32 {
         1 << (self as u32)
     }
 
@@ -440,7 +441,7 @@ pub struct Instance {
     pub(crate) kind: Kind,
     pub(crate) logger: Logger,
     /// Per category of `md::LOG_CATEGORIES`: enabled?
-    log_on: Vec<bool>,
+    log_on: LogSwitches,
     pub(crate) resources: Option<PathBuf>,
     pub(crate) mode: Mode,
     pub(crate) values: Values,
@@ -469,13 +470,7 @@ impl Instance {
         resources: Option<PathBuf>,
         logging_on: bool,
     ) -> Self {
-        let log_on = md::LOG_CATEGORIES
-            .iter()
-            .map(|c| match *c {
-                "logStatusError" | "logStatusWarning" => true,
-                _ => logging_on,
-            })
-            .collect();
+        let log_on = LogSwitches::new(logging_on);
         Self {
             name,
             kind,
@@ -499,11 +494,7 @@ impl Instance {
     // ---- logging ------------------------------------------------------
 
     pub fn log_enabled(&self, cat: Category) -> bool {
-        let name = cat.name();
-        md::LOG_CATEGORIES
-            .iter()
-            .position(|c| *c == name)
-            .is_some_and(|i| self.log_on[i])
+        self.log_on.enabled(cat)
     }
 
     pub fn log(&self, status: Status, cat: Category, msg: &str) {
@@ -525,67 +516,22 @@ impl Instance {
 
     pub fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> Res<Status> {
         self.check("fmi2SetDebugLogging", mask::ANY)?;
-        if categories.is_empty() {
-            self.log_on.iter_mut().for_each(|b| *b = on);
-            return Ok(Status::Ok);
-        }
-        let mut idx = Vec::new();
-        for c in categories {
-            match md::LOG_CATEGORIES.iter().position(|k| k == c) {
-                Some(i) => idx.push(i),
-                None => {
-                    return Err(format!(
-                        "fmi2SetDebugLogging: unknown log category \"{c}\" (known: {})",
-                        md::LOG_CATEGORIES.join(", ")
-                    ))
-                }
-            }
-        }
-        for i in idx {
-            if md::LOG_CATEGORIES[i] == "logAll" {
-                self.log_on.iter_mut().for_each(|b| *b = on);
-            } else {
-                self.log_on[i] = on;
-            }
-        }
+        self.log_on.set(on, categories)?;
         Ok(Status::Ok)
     }
 
     // ---- state machine ------------------------------------------------
 
     pub fn check(&self, func: &str, mask: u32) -> Res<()> {
-        if self.mode.bit() & mask != 0 {
-            Ok(())
-        } else {
-            Err(format!(
-                "{func}: illegal call sequence: not allowed in {}",
-                self.mode_name()
-            ))
-        }
+        check_mode(self.mode, func, mask)
     }
 
     pub fn check_kind(&self, func: &str, kind: Kind) -> Res<()> {
-        if self.kind == kind {
-            Ok(())
-        } else {
-            Err(format!(
-                "{func}: only for {} instances; this one was instantiated for {}",
-                kind_name(kind),
-                kind_name(self.kind)
-            ))
-        }
+        check_kind(self.kind, func, kind)
     }
 
     pub fn mode_name(&self) -> &'static str {
-        match self.mode {
-            Instantiated => "the instantiated state",
-            InitializationMode => "initialization mode",
-            EventMode => "event mode",
-            ContinuousTimeMode => "continuous-time mode",
-            StepComplete => "the step-complete state",
-            Terminated => "the terminated state",
-            Error => "the error state (call fmi2Reset, fmi2SetFMUstate or fmi2FreeInstance)",
-        }
+        mode_name(self.mode)
     }
 
     pub fn setup_experiment(

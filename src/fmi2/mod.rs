@@ -20,6 +20,7 @@ mod head_dispatch;
 pub mod head_md;
 mod instance;
 mod log;
+mod machine;
 pub mod md;
 mod state;
 

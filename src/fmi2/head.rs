@@ -21,6 +21,7 @@ use super::log::{Category, Logger, Status};
 use super::machine::{check_kind, check_mode, mode_name, LogSwitches};
 use super::md::{self, Causality};
 use super::state::fnv1a64;
+use super::state::Reader;
 
 use Mode::*;
 
@@ -986,71 +987,71 @@ impl HeadInstance {
         if len != (body.len() - 20) as u64 {
             return Err("length mismatch".into());
         }
-        let mut r = Rd {
+        let mut r = Reader {
             b: &body[20..],
             at: 0,
         };
-        let n = r.u()? as usize;
+        let n = r.u64()? as usize;
         let guid = r.take(n)?;
         if guid != self.guid.as_bytes() {
             return Err("the state belongs to another FMU (GUID)".into());
         }
-        let kind = match r.b1()? {
+        let kind = match r.u8()? {
             0 => Kind::ModelExchange,
             1 => Kind::CoSimulation,
             _ => return Err("bad interface type".into()),
         };
-        let mode = Mode::from_u8(r.b1()?)
+        let mode = Mode::from_u8(r.u8()?)
             .filter(|m| m.fits(kind))
             .ok_or("bad mode")?;
-        let (start_time, time, last_commit_time) = (r.f()?, r.f()?, r.f()?);
-        let event_committed = r.b1()? != 0;
+        let (start_time, time, last_commit_time) = (r.f64()?, r.f64()?, r.f64()?);
+        let event_committed = r.u8()? != 0;
         let mut values = self.start_values.clone();
-        let expect = |r: &mut Rd, n: usize| -> Res<()> {
-            if r.u()? as usize != n {
+        let expect = |r: &mut Reader, n: usize| -> Res<()> {
+            if r.u64()? as usize != n {
                 return Err("the state was saved by another build (value count)".into());
             }
             Ok(())
         };
         expect(&mut r, values.kerf.real.len())?;
         for x in values.kerf.real.iter_mut() {
-            *x = r.f()?;
+            *x = r.f64()?;
         }
         expect(&mut r, values.kerf.int.len())?;
         for x in values.kerf.int.iter_mut() {
-            *x = r.u()? as i64 as i32;
+            *x = r.u64()? as i64 as i32;
         }
         expect(&mut r, values.kerf.boolean.len())?;
         for x in values.kerf.boolean.iter_mut() {
-            *x = r.b1()? != 0;
+            *x = r.u8()? != 0;
         }
         expect(&mut r, values.kerf.string.len())?;
         for x in values.kerf.string.iter_mut() {
-            let n = r.u()? as usize;
+            let n = r.u64()? as usize;
             *x = CString::new(r.take(n)?.to_vec()).map_err(|_| "a string with NUL")?;
         }
         for x in values.head_in.iter_mut().chain(values.head_par.iter_mut()) {
-            *x = r.f()?;
+            *x = r.f64()?;
         }
         expect(&mut r, values.disc_par.len())?;
         for (a, b) in values.disc_par.iter_mut().zip(values.disc_in.iter_mut()) {
             for x in a.iter_mut().chain(b.iter_mut()) {
-                *x = r.f()?;
+                *x = r.f64()?;
             }
         }
         let mut poses = Vec::with_capacity(values.disc_par.len() + 1);
         for _ in 0..=values.disc_par.len() {
-            let q = [r.f()?, r.f()?, r.f()?, r.f()?, r.f()?, r.f()?];
+            let q = [r.f64()?, r.f64()?, r.f64()?, r.f64()?, r.f64()?, r.f64()?];
             poses.push(Pose::new(q[0], q[1], q[2], q[3], q[4], q[5]));
         }
         let mut pose_set = self.pose_set.clone();
         for b in pose_set.iter_mut() {
-            *b = r.b1()? != 0;
+            *b = r.u8()? != 0;
         }
-        let head = match r.b1()? {
+        let head = match r.u8()? {
             0 => None,
             1 => {
-                let n = r.u()? as usize;
+                let n = r.u64()? as usize;
                 let blob = r.take(n)?;
                 let params = values
                     .kerf
@@ -1085,33 +1086,6 @@ impl HeadInstance {
 
 const STATE_MAGIC: &[u8; 8] = b"KERFHFMU";
 const STATE_VERSION: u32 = 1;
-
-struct Rd<'a> {
-    b: &'a [u8],
-    at: usize,
-}
-
-impl<'a> Rd<'a> {
-    fn take(&mut self, n: usize) -> Res<&'a [u8]> {
-        let end = self
-            .at
-            .checked_add(n)
-            .filter(|&e| e <= self.b.len())
-            .ok_or("truncated state")?;
-        let s = &self.b[self.at..end];
-        self.at = end;
-        Ok(s)
-    }
-    fn u(&mut self) -> Res<u64> {
-        Ok(u64::from_le_bytes(self.take(8)?.try_into().unwrap()))
-    }
-    fn f(&mut self) -> Res<f64> {
-        Ok(f64::from_le_bytes(self.take(8)?.try_into().unwrap()))
-    }
-    fn b1(&mut self) -> Res<u8> {
-        Ok(self.take(1)?[0])
-    }
-}
 
 /// The head manifest in `resources`, if this FMU is a head: (guid, drive,
 /// layout).

@@ -108,13 +108,15 @@ fn put_bytes(p: &mut Vec<u8>, b: &[u8]) {
     p.extend_from_slice(b);
 }
 
-struct Reader<'a> {
-    b: &'a [u8],
-    at: usize,
+/// Little-endian reader of a state blob, for the single-disc and the head
+/// FMU's states alike.
+pub(crate) struct Reader<'a> {
+    pub(crate) b: &'a [u8],
+    pub(crate) at: usize,
 }
 
 impl<'a> Reader<'a> {
-    fn take(&mut self, n: usize) -> Res<&'a [u8]> {
+    pub(crate) fn take(&mut self, n: usize) -> Res<&'a [u8]> {
         let end = self
             .at
             .checked_add(n)
@@ -124,33 +126,33 @@ impl<'a> Reader<'a> {
         self.at = end;
         Ok(s)
     }
-    fn u8(&mut self) -> Res<u8> {
+    pub(crate) fn u8(&mut self) -> Res<u8> {
         Ok(self.take(1)?[0])
     }
-    fn flag(&mut self, what: &str) -> Res<bool> {
+    pub(crate) fn flag(&mut self, what: &str) -> Res<bool> {
         match self.u8()? {
             0 => Ok(false),
             1 => Ok(true),
             v => Err(format!("{what} = {v} is not a boolean")),
         }
     }
-    fn u32(&mut self) -> Res<u32> {
+    pub(crate) fn u32(&mut self) -> Res<u32> {
         Ok(u32::from_le_bytes(self.take(4)?.try_into().unwrap()))
     }
-    fn u64(&mut self) -> Res<u64> {
+    pub(crate) fn u64(&mut self) -> Res<u64> {
         Ok(u64::from_le_bytes(self.take(8)?.try_into().unwrap()))
     }
-    fn f64(&mut self) -> Res<f64> {
+    pub(crate) fn f64(&mut self) -> Res<f64> {
         Ok(f64::from_le_bytes(self.take(8)?.try_into().unwrap()))
     }
-    fn i32(&mut self) -> Res<i32> {
+    pub(crate) fn i32(&mut self) -> Res<i32> {
         Ok(i32::from_le_bytes(self.take(4)?.try_into().unwrap()))
     }
-    fn bytes(&mut self) -> Res<&'a [u8]> {
+    pub(crate) fn bytes(&mut self) -> Res<&'a [u8]> {
         let n = self.u32()? as usize;
         self.take(n)
     }
-    fn count(&mut self, what: &str, want: usize) -> Res<()> {
+    pub(crate) fn count(&mut self, what: &str, want: usize) -> Res<()> {
         let n = self.u32()? as usize;
         if n == want {
             Ok(())

@@ -182,10 +182,7 @@ pub fn roll(model: &mut Model, track: &dyn Track, length: f64, h: f64, lo: f64, 
         let dt_us = t0.elapsed().as_secs_f64() * 1e6;
         if s >= lo - 1e-12 && s <= hi + 1e-12 {
             let (f, m) = cutter_frame(&o, &pose);
-            let c = model.contact(&pose, &tw);
-            let rt = pose.rotation().transpose();
-            let cut = rt * (c.rim_force + c.side_force);
-            let cut = [cut.z, -cut.x, cut.y];
+            let cut = cutting_force(&pose, &model.contact(&pose, &tw));
             for i in 0..3 {
                 mean.force[i] += f[i];
                 mean.moment[i] += m[i];
@@ -301,4 +298,60 @@ pub fn reroll(cell: f64, depth: f64, radius: Option<f64>) -> Mean {
             roll_track(&mut m, &second)
         }
     }
+}
+
+/// A model after rolling each `(track, length)` in turn, with the pose and
+/// twist at the end of the last one.
+pub fn rolled(prm: &Params, tracks: &[(&dyn Track, f64)]) -> (Model, Pose, Twist) {
+    let mut m = Model::new(prm.clone()).unwrap();
+    for (t, len) in tracks {
+        roll(&mut m, *t, *len, 1e-3, 0.0, 0.0);
+    }
+    let (t, len) = tracks.last().unwrap();
+    (m, t.pose(*len), t.twist(*len))
+}
+
+/// The end states of the scenes the fast contact is checked against the
+/// brute-force oracle on: tilted 0, 10, 30, 60 deg and 2, 4, 8 mm beside a
+/// groove, at cells of `cell`.
+pub fn oracle_scenes(cell: f64) -> Vec<(String, Model, Pose, Twist)> {
+    let prm = face(cell, -0.3, 0.5, -0.06, 0.06);
+    let mut scenes = Vec::new();
+    for g in [0.0f64, 10.0, 30.0, 60.0] {
+        let t = Straight {
+            prm: prm.clone(),
+            x0: 0.0,
+            y: 0.0,
+            depth: P_REF,
+            roll: g.to_radians(),
+        };
+        let (m, p, tw) = rolled(&prm, &[(&t, 0.1)]);
+        scenes.push((format!("tilt {g}"), m, p, tw));
+    }
+    for d in [2e-3, 4e-3, 8e-3] {
+        let a = Straight {
+            prm: prm.clone(),
+            x0: -0.1,
+            y: 0.0,
+            depth: P_REF,
+            roll: 0.0,
+        };
+        let b = Straight {
+            prm: prm.clone(),
+            x0: 0.0,
+            y: d,
+            depth: P_REF,
+            roll: 0.0,
+        };
+        let (m, p, tw) = rolled(&prm, &[(&a, 0.35), (&b, 0.1)]);
+        scenes.push((format!("beside {} mm", d * 1e3), m, p, tw));
+    }
+    scenes
+}
+
+/// A contact's cutting force (rim and faces, no friction) in the cutter
+/// frame: normal (+z), rolling (-x), side (+y).
+pub fn cutting_force(pose: &Pose, c: &crate::core::contact_cutter_heightmap::Contact) -> [f64; 3] {
+    let f = pose.rotation().transpose() * (c.rim_force + c.side_force);
+    [f.z, -f.x, f.y]
 }

@@ -9,7 +9,6 @@
 //! `cargo test --release --test contact_law -- --ignored`.
 
 use kerf::core::contact_bruteforce::Resolution;
-use kerf::core::*;
 use kerf::scenes::*;
 
 const FN: f64 = 60_795.388;
@@ -23,65 +22,15 @@ fn diff(a: [f64; 3], b: [f64; 3]) -> f64 {
     (0..3).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max) / FN
 }
 
-/// The model after rolling `track` for `len`, and the pose and twist there.
-fn rolled(prm: &Params, tracks: &[(&dyn Track, f64)]) -> (Model, Pose, Twist) {
-    let mut m = Model::new(prm.clone()).unwrap();
-    for (t, len) in tracks {
-        roll(&mut m, *t, *len, 1e-3, 0.0, 0.0);
-    }
-    let (t, len) = tracks.last().unwrap();
-    (m, t.pose(*len), t.twist(*len))
-}
-
-fn cutter_frame(
-    m: &Model,
-    pose: &Pose,
-    c: &kerf::core::contact_cutter_heightmap::Contact,
-) -> [f64; 3] {
-    let _ = m;
-    let f = pose.rotation().transpose() * (c.rim_force + c.side_force);
-    [f.z, -f.x, f.y]
-}
-
 #[test]
 fn the_fast_contact_matches_the_brute_force_oracle_on_every_scene() {
     // the oracle samples the surface every 0.05 mm with 101 slices; the fast
     // query walks 9 slices and refines arc ends. Held to 1.5 % of FN per
     // component (measured: at most 1.0 %, the normal force 4 mm beside a groove)
-    let prm = face(1e-3, -0.3, 0.5, -0.06, 0.06);
-    let mut scenes: Vec<(String, Model, Pose, Twist)> = Vec::new();
-    for g in [0.0f64, 10.0, 30.0, 60.0] {
-        let t = Straight {
-            prm: prm.clone(),
-            x0: 0.0,
-            y: 0.0,
-            depth: P_REF,
-            roll: g.to_radians(),
-        };
-        let (m, p, tw) = rolled(&prm, &[(&t, 0.1)]);
-        scenes.push((format!("tilt {g}"), m, p, tw));
-    }
-    for d in [2e-3, 4e-3, 8e-3] {
-        let a = Straight {
-            prm: prm.clone(),
-            x0: -0.1,
-            y: 0.0,
-            depth: P_REF,
-            roll: 0.0,
-        };
-        let b = Straight {
-            prm: prm.clone(),
-            x0: 0.0,
-            y: d,
-            depth: P_REF,
-            roll: 0.0,
-        };
-        let (m, p, tw) = rolled(&prm, &[(&a, 0.35), (&b, 0.1)]);
-        scenes.push((format!("beside {d}"), m, p, tw));
-    }
+    let scenes = oracle_scenes(1e-3);
     for (name, m, pose, tw) in &scenes {
-        let fast = cutter_frame(m, pose, &m.contact(pose, tw));
-        let brute = cutter_frame(m, pose, &m.contact_brute(pose, tw, &Resolution::default()));
+        let fast = cutting_force(pose, &m.contact(pose, tw));
+        let brute = cutting_force(pose, &m.contact_brute(pose, tw, &Resolution::default()));
         assert!(
             brute[0] > 0.1 * FN,
             "{name}: oracle finds no load {brute:?}"
@@ -104,7 +53,7 @@ fn a_fresh_straight_cut_is_the_csm_closed_form_with_the_oracle_too() {
         roll: 0.0,
     };
     let (m, p, tw) = rolled(&prm, &[(&t, 0.1)]);
-    let b = cutter_frame(&m, &p, &m.contact_brute(&p, &tw, &Resolution::default()));
+    let b = cutting_force(&p, &m.contact_brute(&p, &tw, &Resolution::default()));
     assert!((b[0] / FN - 1.0).abs() < 1e-3, "{b:?}");
     assert!((b[1] / 5728.495 - 1.0).abs() < 1e-3, "{b:?}");
 }

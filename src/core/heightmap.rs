@@ -9,14 +9,16 @@
 //! 10 m x 10 m face at 1 mm cells costs 1.6 MB before anything is cut.
 //!
 //! Tiles are shared copy-on-write (`Arc`): cloning a map (an FMU-state
-//! snapshot, a step's undo copy) copies the directory and shares every tile;
+//! snapshot) copies the directory and shares every tile;
 //! the first write to a shared tile copies that tile only. A host that saves
 //! the state before every step therefore pays for the tiles the step cuts,
 //! not for the face.
 //!
-//! A step's undo record ([`HeightMap::begin_undo`]) keeps, for each tile the
-//! step writes, the tile as it was before its first write: rolling back costs
-//! what the step touched, never the directory.
+//! A step's undo record ([`HeightMap::begin_undo`]) logs each node write with
+//! what it overwrote, and the tiles the step allocated: rolling back costs
+//! what the step wrote, never the directory, and keeping a step costs no tile
+//! copies (a record that held the tiles themselves made every step copy each
+//! tile it cut, a quarter of a straight cut's time).
 
 use std::sync::Arc;
 
@@ -156,16 +158,28 @@ pub struct HeightMap {
     tiles_x: usize,
     tiles_y: usize,
     tiles: Vec<Option<Tile>>,
-    /// While a change may still be rolled back: the tiles it wrote, as they
-    /// were before.
-    undo: Option<Undo>,
+    /// While a change may still be rolled back: what it wrote over. Kept
+    /// between changes (empty) so that its buffers are reused.
+    undo: Undo,
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
 struct Undo {
-    /// The tile written last (most writes hit it again: no lookup).
-    last: Option<usize>,
-    saved: std::collections::HashMap<usize, Option<Tile>>,
+    open: bool,
+    /// Tiles the change allocated (absent before it).
+    allocated: Vec<usize>,
+    /// Node writes in order, with what they overwrote.
+    writes: Vec<Overwritten>,
+}
+
+/// One node write of an open undo record and what it overwrote.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Overwritten {
+    tile: usize,
+    node: usize,
+    z: f64,
+    cut_word: u64,
+    z_max: f64,
 }
 
 /// A point query on the surface: height and slopes of the triangle (eqs 27-32).
@@ -187,7 +201,7 @@ impl HeightMap {
             tiles_x,
             tiles_y,
             tiles: vec![None; tiles_x * tiles_y],
-            undo: None,
+            undo: Undo::default(),
         }
     }
 
@@ -229,30 +243,40 @@ impl HeightMap {
         }
     }
 
-    /// Tile `t` for writing (allocated on first write), recorded first in the
-    /// undo record when one is open.
-    fn tile_mut(&mut self, t: usize) -> &mut Tile {
-        if let Some(u) = &mut self.undo {
-            if u.last != Some(t) {
-                u.saved.entry(t).or_insert_with(|| self.tiles[t].clone());
-                u.last = Some(t);
+    /// Node `k` of tile `t` for writing: the tile allocated on first write,
+    /// and the node's old value logged when an undo record is open.
+    fn tile_mut(&mut self, t: usize, k: usize) -> &mut Tile {
+        if self.tiles[t].is_none() {
+            let z0 = self.z0;
+            self.tiles[t] = Some(Tile {
+                d: Arc::new(TileData {
+                    z: [z0; TILE_NODES],
+                    cut: [0; MASK_WORDS],
+                }),
+                z_max: z0,
+            });
+            if self.undo.open {
+                self.undo.allocated.push(t);
             }
         }
-        let z0 = self.z0;
-        self.tiles[t].get_or_insert_with(|| Tile {
-            d: Arc::new(TileData {
-                z: [z0; TILE_NODES],
-                cut: [0; MASK_WORDS],
-            }),
-            z_max: z0,
-        })
+        let tile = self.tiles[t].as_mut().expect("allocated above");
+        if self.undo.open {
+            self.undo.writes.push(Overwritten {
+                tile: t,
+                node: k,
+                z: tile.d.z[k],
+                cut_word: tile.d.cut[k / 64],
+                z_max: tile.z_max,
+            });
+        }
+        tile
     }
 
     /// Sets node `(i, j)`, allocating its tile on first write (a surface
     /// being loaded: the node does not count as cut).
     pub fn set_node(&mut self, i: usize, j: usize, z: f64) {
         let (t, k) = self.tile_index(i, j);
-        let tile = self.tile_mut(t);
+        let tile = self.tile_mut(t, k);
         // copy on write: a tile shared with a snapshot is copied here, once
         Arc::make_mut(&mut tile.d).z[k] = z;
         if z > tile.z_max {
@@ -263,7 +287,7 @@ impl HeightMap {
     /// Lowers node `(i, j)` to `z` by a cut or a chip, and marks it cut.
     pub fn lower_node(&mut self, i: usize, j: usize, z: f64) {
         let (t, k) = self.tile_index(i, j);
-        let tile = self.tile_mut(t);
+        let tile = self.tile_mut(t, k);
         let d = Arc::make_mut(&mut tile.d);
         d.z[k] = z;
         d.cut[k / 64] |= 1u64 << (k % 64);
@@ -418,20 +442,33 @@ impl HeightMap {
 
     /// Starts recording what the writes change, for [`HeightMap::rollback`].
     pub fn begin_undo(&mut self) {
-        self.undo = Some(Undo::default());
+        self.undo.open = true;
+        self.undo.allocated.clear();
+        self.undo.writes.clear();
     }
 
     /// Keeps the writes since [`HeightMap::begin_undo`] and stops recording.
     pub fn commit_undo(&mut self) {
-        self.undo = None;
+        self.undo.open = false;
+        self.undo.allocated.clear();
+        self.undo.writes.clear();
     }
 
     /// Puts back every tile written since [`HeightMap::begin_undo`] and
     /// stops recording.
     pub fn rollback(&mut self) {
-        if let Some(u) = self.undo.take() {
-            for (t, tile) in u.saved {
-                self.tiles[t] = tile;
+        if self.undo.open {
+            let u = std::mem::take(&mut self.undo);
+            for w in u.writes.iter().rev() {
+                if let Some(tile) = &mut self.tiles[w.tile] {
+                    let d = Arc::make_mut(&mut tile.d);
+                    d.z[w.node] = w.z;
+                    d.cut[w.node / 64] = w.cut_word;
+                    tile.z_max = w.z_max;
+                }
+            }
+            for &t in &u.allocated {
+                self.tiles[t] = None;
             }
         }
     }

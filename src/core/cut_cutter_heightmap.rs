@@ -108,11 +108,12 @@ fn sweep_nodes<M: Nodes>(
                 a += step;
                 continue;
             }
+            // local coordinates are affine along a row
+            let q = a;
+            a += step;
             let z_low = if horizontal {
-                // axle horizontal: local coordinates are affine along a row and
-                // the lower boundary is the rim circle of radius rho(y_local)
-                let q = a;
-                a += step;
+                // axle horizontal: the lower boundary is the rim circle of
+                // radius rho(y_local)
                 if q.y.abs() > h {
                     continue;
                 }
@@ -124,8 +125,8 @@ fn sweep_nodes<M: Nodes>(
                 }
                 -b - disc2.sqrt()
             } else {
-                let (x, y) = g.node_xy(i, j);
-                match disc.lower_boundary(x, y) {
+                let cap = map.map().node(i, j) - elastic_depth - CUT_TOLERANCE;
+                match disc.column_lower_end(&q, &d, cap) {
                     Some((zl, _)) => zl,
                     None => continue,
                 }

@@ -96,10 +96,31 @@ impl PosedDisc {
     /// rock frame: its height and the face it lies on; `None` when the line
     /// misses the disc.
     pub fn lower_boundary(&self, x: f64, y: f64) -> Option<(f64, Face)> {
+        self.lower_boundary_below(x, y, f64::INFINITY)
+    }
+
+    /// [`PosedDisc::lower_boundary`] when it lies below `cap`, else `None`.
+    /// The cut asks whether a node stands above the disc, so it stops as soon
+    /// as the search has climbed past the node: most nodes of a rolling
+    /// cut's window were cut by the last pose and are rejected early.
+    pub fn lower_boundary_below(&self, x: f64, y: f64, cap: f64) -> Option<(f64, Face)> {
         // local coordinates along the line: q(t) = a + t d, t the rock height
         let rt = self.rot.transpose();
         let a = rt * Vector3::new(x - self.centre.x, y - self.centre.y, -self.centre.z);
-        let d = rt.column(2).into_owned();
+        self.column_lower_end(&a, &rt.column(2).into_owned(), cap)
+    }
+
+    /// [`PosedDisc::lower_boundary_below`] for the vertical line given in
+    /// the cutter frame: `q(t) = a + t d`, `t` the rock height, `d` the
+    /// rock's up axis in the cutter frame. A caller walking a row of nodes
+    /// steps `a` instead of transforming each node.
+    pub fn column_lower_end(
+        &self,
+        a: &Vector3<f64>,
+        d: &Vector3<f64>,
+        cap: f64,
+    ) -> Option<(f64, Face)> {
+        let (a, d) = (*a, *d);
         let h = self.half_width;
         if d.y.abs() < 1e-12 {
             // axle horizontal: the line stays in the plane y_local = a.y
@@ -123,8 +144,12 @@ impl PosedDisc {
         }
         // the solid lies in the radius-R cylinder about the axle: a line that
         // misses the cylinder within the slab misses the disc
+        // line misses the cylinder within the slab misses the disc; where it
+        // enters the cylinder, |q_xz| = R >= rho, so the solid's lower end
+        // lies no lower than that
         let (ca, cb) = (d.x * d.x + d.z * d.z, a.x * d.x + a.z * d.z);
         let cc = a.x * a.x + a.z * a.z - self.radius * self.radius;
+        let mut start = t1;
         if ca > 0.0 {
             let disc2 = cb * cb - ca * cc;
             if disc2 < 0.0 {
@@ -134,20 +159,26 @@ impl PosedDisc {
             if hi < t1 || lo > t2 {
                 return None;
             }
+            start = start.max(lo);
         } else if cc > 0.0 {
+            return None;
+        }
+        if start >= cap {
             return None;
         }
         let g = |t: f64| {
             let q = a + d * t;
             (q.x * q.x + q.z * q.z).sqrt() - self.rho(q.y.clamp(-h, h))
         };
-        if g(t1) <= 0.0 {
+        if start == t1 && g(t1) <= 0.0 {
             let qy = a.y + d.y * t1;
             return Some((t1, Face::Side(if qy > 0.0 { 1 } else { -1 })));
         }
-        // g is convex, positive at t1: Newton from t1 climbs monotonically
-        // to its first root while g falls; if g stops falling first, its
-        // minimum is positive and the line misses the disc
+        // g is convex, positive at `start` (outside the cylinder, or at t1 with
+        // g(t1) > 0): Newton from there climbs monotonically to its first root
+        // while g falls; if g stops falling first, its minimum is positive
+        // and the line misses the disc. Every iterate is a lower bound of the
+        // root, so one at or past `cap` ends the search.
         let r = self.tip_radius;
         let dg = |t: f64| {
             let q = a + d * t;
@@ -156,8 +187,17 @@ impl PosedDisc {
             let root = (r * r - y * y).max(1e-300).sqrt();
             (q.x * d.x + q.z * d.z) / m + y / root * d.y
         };
-        let mut t = t1;
-        let mut gt = g(t1);
+        let mut t = start;
+        let mut gt = g(start);
+        if gt <= 0.0 {
+            // entered the cylinder where the rim is at radius R: the root
+            return Some((
+                start,
+                Face::Rim {
+                    y: (a.y + d.y * start).clamp(-h, h),
+                },
+            ));
+        }
         let mut inn = f64::NAN;
         for _ in 0..60 {
             let slope = dg(t);
@@ -165,7 +205,7 @@ impl PosedDisc {
                 return None;
             }
             let next = t - gt / slope;
-            if next > t2 {
+            if next > t2 || next >= cap {
                 return None;
             }
             let gn = g(next);

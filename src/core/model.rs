@@ -229,6 +229,14 @@ pub fn rim_travel(a: &Pose, b: &Pose, radius: f64) -> f64 {
     (b.position - a.position).norm() + q0.angle_to(&q1) * radius
 }
 
+/// How many sub-steps of at most `step` a path of `travel` takes (at least
+/// one). A part in 1e12 of the travel is forgiven: the frame turn of a disc
+/// spinning about its own tilted axle comes out as ~1e-17 rad/s instead of
+/// zero, and a 1 mm step at 1 m/s then took two cuts instead of one.
+pub fn steps_for(travel: f64, step: f64) -> f64 {
+    (travel / step * (1.0 - 1e-12)).ceil().max(1.0)
+}
+
 /// Speed of a rim point of a disc at `pose` moving with `twist`, as a
 /// Co-Simulation step counts its travel: the centre's speed plus the turn
 /// rate of the disc's frame (the spin about the axle left out) times `radius`.
@@ -575,7 +583,7 @@ impl Model {
     /// call may do; `what` and `span` (its duration) name the call's step.
     fn sub_steps(&self, travel: f64, what: &str, span: f64) -> Result<usize> {
         let s = self.params.numerics.sweep_step;
-        let n = (travel / s).ceil().max(1.0);
+        let n = steps_for(travel, s);
         if n <= MAX_SUBSTEPS_PER_CALL {
             return Ok(n as usize);
         }

@@ -627,10 +627,25 @@ pub fn contact(
     }
     let circles = &circles[..nc];
 
+    // a moving disc whose side face nowhere moves into the rock (a rolling
+    // gauge cutter: the face slides in its own plane) gets no load from its
+    // rings, exactly: the whole-arc part weighs 1 - moving = 0 and no ring has
+    // a driving part (normal velocity side v_y + r (w_z sin + w_x cos) <= eps
+    // for every r <= rho(T/2)). They are not walked then, unless the rim
+    // touches nothing (the disc is in contact if a ring touches).
+    let rings_idle = {
+        let side = -axle_z.signum();
+        motion.moving >= 1.0
+            && side * motion.v.y + disc.rho(h) * motion.w.x.hypot(motion.w.z) <= motion.vn_eps
+    };
     // per circle, both sides: march first, then refine the ends of the arcs
     // on every side whose weight in the blend can matter
     let mut walks = [[None::<Walk>; 2]; 101 + MAX_RINGS];
+    let mut rim_touches = false;
     for (c, pair) in circles.iter().zip(walks.iter_mut()) {
+        if c.face != 0.0 && rings_idle && rim_touches {
+            continue;
+        }
         let Some((theta0, reach)) = disc.arc_below(c.y, c.radius, z_top) else {
             continue;
         };
@@ -648,6 +663,7 @@ pub fn contact(
                 look,
             );
         }
+        rim_touches |= c.face == 0.0 && pair.iter().any(Option::is_some);
     }
     let mut lo = [0.0f64; 2];
     let mut hi = [0.0f64; 2];
@@ -677,6 +693,10 @@ pub fn contact(
     let mut gov: Option<(usize, f64)> = None;
     let mut arcs = [[None::<Arc>; 2]; 101];
     for (ci, c) in circles.iter().enumerate() {
+        if c.face != 0.0 && rings_idle {
+            any |= walks[ci].iter().any(Option::is_some);
+            continue;
+        }
         let may_govern = walks[ci]
             .iter()
             .flatten()

@@ -138,13 +138,16 @@ impl PosedDisc {
         }
         // general pose: slab |q_y| <= h gives t in [t1, t2]; inside it the
         // convex g(t) = |q_xz(t)| - rho(q_y(t)) must be <= 0
-        let (mut t1, mut t2) = ((-h - a.y) / d.y, (h - a.y) / d.y);
+        let inv_dy = 1.0 / d.y;
+        let (mut t1, mut t2) = ((-h - a.y) * inv_dy, (h - a.y) * inv_dy);
         if t1 > t2 {
             std::mem::swap(&mut t1, &mut t2);
         }
+        if t1 >= cap {
+            return None;
+        }
         // the solid lies in the radius-R cylinder about the axle: a line that
-        // misses the cylinder within the slab misses the disc
-        // line misses the cylinder within the slab misses the disc; where it
+        // misses the cylinder within the slab misses the disc; where it
         // enters the cylinder, |q_xz| = R >= rho, so the solid's lower end
         // lies no lower than that
         let (ca, cb) = (d.x * d.x + d.z * d.z, a.x * d.x + a.z * d.z);
@@ -155,7 +158,8 @@ impl PosedDisc {
             if disc2 < 0.0 {
                 return None;
             }
-            let (lo, hi) = ((-cb - disc2.sqrt()) / ca, (-cb + disc2.sqrt()) / ca);
+            let (root, inv_ca) = (disc2.sqrt(), 1.0 / ca);
+            let (lo, hi) = ((-cb - root) * inv_ca, (-cb + root) * inv_ca);
             if hi < t1 || lo > t2 {
                 return None;
             }

@@ -186,7 +186,7 @@ impl Disc {
 /// Longest move in plan between two poses of one path: a path is cut in
 /// sub-steps of at most `sweep_step` of rim travel; anything longer is a
 /// jump to a new pass.
-fn chip_max_step(map: &HeightMap, params: &Params) -> f64 {
+pub(crate) fn chip_max_step(map: &HeightMap, params: &Params) -> f64 {
     let g = map.grid();
     2.0 * params.numerics.sweep_step + g.dx.max(g.dy)
 }

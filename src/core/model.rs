@@ -5,19 +5,15 @@ use std::cell::Cell;
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-use super::chip_heightmap::ChipState;
-use super::contact_cutter_heightmap::{contact, Contact};
-use super::contact_thesis::contact_thesis;
+use super::contact_cutter_heightmap::Contact;
 use super::csm::CsmLaw;
-use super::cut_cutter_heightmap::{cut, window_nodes, would_cut};
+use super::cut_cutter_heightmap::window_nodes;
 use super::cutter::PosedDisc;
-use super::disc::DiscState;
+use super::disc::{chip_max_step, Disc, DiscState};
 use super::error::{KerfError, Result};
-use super::face::blob;
+use super::face::{blob, Face};
 use super::heightmap::{Grid, HeightMap};
-use super::params::{
-    DirectionRule, Params, MAX_NODE_VISITS_PER_CALL, MAX_SUBSTEPS_PER_CALL, TILTED_NODE_WEIGHT,
-};
+use super::params::{Params, MAX_NODE_VISITS_PER_CALL, MAX_SUBSTEPS_PER_CALL, TILTED_NODE_WEIGHT};
 use super::pose::{advance_pose, Pose, Twist};
 use super::rsf;
 
@@ -54,14 +50,10 @@ pub struct Outputs {
 /// The discrete state: what `fmi2GetFMUstate` captures.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelState {
-    map: HeightMap,
-    excavated_volume: f64,
-    cutting_energy: f64,
-    /// Where the rock was last cut (end of the last commit or advance): the
-    /// next Model Exchange commit cuts along the path from here.
-    last_cut: Option<Pose>,
-    /// Where the chips are along the path (chipping on).
-    chips: ChipState,
+    /// The rock and its bookkeeping.
+    face: Face,
+    /// Where the disc last cut and where its chips are.
+    disc: DiscState,
 }
 
 const MAGIC: &[u8; 8] = b"KERFCORE";
@@ -81,20 +73,9 @@ impl ModelState {
         let mut v = Vec::new();
         v.extend_from_slice(MAGIC);
         v.extend_from_slice(&VERSION.to_le_bytes());
-        blob::rock_header(
-            &mut v,
-            &self.map,
-            self.excavated_volume,
-            self.cutting_energy,
-        );
-        blob::disc_state(
-            &mut v,
-            &DiscState {
-                last_cut: self.last_cut,
-                chips: self.chips.clone(),
-            },
-        );
-        blob::tiles(&mut v, &self.map);
+        blob::face_header(&mut v, &self.face);
+        blob::disc_state(&mut v, &self.disc);
+        blob::tiles(&mut v, &self.face.map);
         v
     }
 
@@ -116,20 +97,21 @@ impl ModelState {
         }
         let grid = grid_of(params);
         let (excavated_volume, cutting_energy) = r.face_header(&grid, params.rock.z0)?;
-        let DiscState { last_cut, chips } = r.disc_state()?;
+        let disc = r.disc_state()?;
         let map = r.tiles(grid, params.rock.z0)?;
         r.end()?;
         Ok(Self {
-            map,
-            excavated_volume,
-            cutting_energy,
-            last_cut,
-            chips,
+            face: Face {
+                map,
+                excavated_volume,
+                cutting_energy,
+            },
+            disc,
         })
     }
 
     pub fn map(&self) -> &HeightMap {
-        &self.map
+        &self.face.map
     }
 }
 
@@ -254,12 +236,16 @@ pub fn rim_spin_speed(pose: &Pose, twist: &Twist, radius: f64) -> f64 {
     twist.omega.dot(&axle).abs() * radius
 }
 
+/// One disc on its own face: the cutterhead's [`Disc`] and [`Face`] with
+/// the single-disc FMU's rules on top (all-or-nothing changes, bounds on the
+/// work of one call, the trapezoidal work between commits).
 pub struct Model {
     params: Params,
-    law: CsmLaw,
+    /// The disc: geometry, law and the cache of its last evaluation (which
+    /// the disc clears when it cuts; the model when the rock changes
+    /// otherwise).
+    disc: Disc,
     state: ModelState,
-    /// The last evaluation (pose, twist, outputs); cleared when the rock changes.
-    cache: Cell<Option<(Pose, Twist, Outputs)>>,
     /// The outputs right after the last commit (pose, twist, outputs): the
     /// start of the next commit's trapezoidal work. Only a cache (a restored
     /// state recomputes it from the rock and the last cut's pose).
@@ -271,29 +257,16 @@ impl Model {
     /// `rock.initial_surface`).
     pub fn new(params: Params) -> Result<Self> {
         params.validate()?;
-        let grid = grid_of(&params);
-        let map = if params.rock.initial_surface.is_empty() {
-            HeightMap::flat(grid, params.rock.z0)
-        } else {
-            rsf::read(
-                std::path::Path::new(&params.rock.initial_surface),
-                grid,
-                params.rock.z0,
-            )?
+        let face = Face::new(&params.rock)?;
+        let disc = Disc::new(params.cutter, params.csm, params.numerics.p_reg);
+        let state = ModelState {
+            face,
+            disc: DiscState::new(&params),
         };
-        let law = CsmLaw::new(params.cutter, params.csm, params.numerics.p_reg);
-        let chips = ChipState::new(&params.chipping);
         Ok(Self {
             params,
-            law,
-            state: ModelState {
-                map,
-                excavated_volume: 0.0,
-                cutting_energy: 0.0,
-                last_cut: None,
-                chips,
-            },
-            cache: Cell::new(None),
+            disc,
+            state,
             after_commit: Cell::new(None),
         })
     }
@@ -303,18 +276,19 @@ impl Model {
     }
 
     pub fn law(&self) -> &CsmLaw {
-        &self.law
+        self.disc.law()
     }
 
     /// The committed rock.
     pub fn map(&self) -> &HeightMap {
-        &self.state.map
+        &self.state.face.map
     }
 
     /// Warnings about parameters that are legal but questionable (for the
     /// FMI logger): an Ozdemir regression outside its Table 1 range.
     pub fn warnings(&self) -> Vec<String> {
-        self.law
+        self.disc
+            .law()
             .range_warnings(0.0038)
             .into_iter()
             .filter(|w| !w.contains(": penetration"))
@@ -322,20 +296,14 @@ impl Model {
     }
 
     fn disc(&self, pose: &Pose) -> PosedDisc {
-        PosedDisc::new(&self.params.cutter, pose)
+        self.disc.posed(pose)
     }
 
     /// The contact geometry and cutting force (no friction) at `pose`, for a
     /// disc moving with `twist`.
     pub fn contact(&self, pose: &Pose, twist: &Twist) -> Contact {
-        let disc = self.disc(pose);
-        let n = &self.params.numerics;
-        match n.direction {
-            DirectionRule::Kerf => {
-                contact(&self.state.map, &disc, &self.law, n, n.elastic_depth, twist)
-            }
-            DirectionRule::Thesis => contact_thesis(&self.state.map, &disc, &self.law, n, twist),
-        }
+        self.disc
+            .contact(&self.state.face.map, pose, twist, &self.params)
     }
 
     /// The contact law at `pose` by brute force (`contact_bruteforce`): the
@@ -348,9 +316,9 @@ impl Model {
     ) -> Contact {
         let n = &self.params.numerics;
         super::contact_bruteforce::contact_brute(
-            &self.state.map,
+            &self.state.face.map,
             &self.disc(pose),
-            &self.law,
+            self.disc.law(),
             n,
             n.elastic_depth,
             twist,
@@ -362,52 +330,28 @@ impl Model {
     pub fn evaluate(&self, pose: &Pose, twist: &Twist) -> Result<Outputs> {
         pose.validate()?;
         twist.validate()?;
-        if let Some((p, t, o)) = self.cache.get() {
-            if p == *pose && t == *twist {
-                return Ok(self.with_bookkeeping(o));
-            }
-        }
-        let o = self.compute(pose, twist);
-        self.cache.set(Some((*pose, *twist, o)));
+        let o = self
+            .disc
+            .evaluate(&self.state.face.map, pose, twist, &self.params);
         Ok(self.with_bookkeeping(o))
     }
 
     /// `o` with the current excavated volume, cutting energy and specific energy.
     fn with_bookkeeping(&self, mut o: Outputs) -> Outputs {
-        let s = &self.state;
-        o.excavated_volume = s.excavated_volume;
-        o.cutting_energy = s.cutting_energy;
-        o.specific_energy = if s.excavated_volume > 0.0 {
-            s.cutting_energy / s.excavated_volume
-        } else {
-            0.0
-        };
-        o.chipped_volume = s.chips.volume;
-        o.chip_count = s.chips.count;
+        let (f, c) = (&self.state.face, self.state.disc.chips());
+        o.excavated_volume = f.excavated_volume();
+        o.cutting_energy = f.cutting_energy();
+        o.specific_energy = f.specific_energy();
+        o.chipped_volume = c.volume;
+        o.chip_count = c.count;
         o
-    }
-
-    fn compute(&self, pose: &Pose, twist: &Twist) -> Outputs {
-        let c = self.contact(pose, twist);
-        let rot = pose.rotation();
-        // friction on the slip of the rim over the rock where the contact is
-        // lowest (kerf) or at the point of force application (thesis eq. 56)
-        let slip_v = twist.velocity + twist.omega.cross(&c.slip_point);
-        let f = &self.params.friction;
-        let friction = if c.in_contact {
-            friction_force(c.rim_force.norm(), slip_v, c.slip_normal, f.mu, f.vs)
-        } else {
-            Vector3::zeros()
-        };
-        let force = c.rim_force + c.side_force + friction;
-        let moment = c.rim_moment + c.slip_point.cross(&friction) + c.side_moment;
-        Outputs::from_force(force, moment, &rot, c.penetration, c.phi, c.in_contact)
     }
 
     /// Rim travel ([`rim_travel`]) from the pose of the last cut to `pose`;
     /// `None` before the first cut. Changes nothing.
     pub fn travel_since_cut(&self, pose: &Pose) -> Option<f64> {
         self.state
+            .disc
             .last_cut
             .map(|prev| rim_travel(&prev, pose, self.params.cutter.radius))
     }
@@ -415,11 +359,9 @@ impl Model {
     /// Would [`Model::commit`] at `pose` change the rock?
     pub fn cuts(&self, pose: &Pose) -> Result<bool> {
         pose.validate()?;
-        Ok(would_cut(
-            &self.state.map,
-            &self.disc(pose),
-            self.params.numerics.elastic_depth,
-        ))
+        Ok(self
+            .disc
+            .would_cut(&self.state.face.map, pose, &self.params))
     }
 
     /// Rate of work of the cutter on the rock at `pose` \[W\]: `-(F.v + M.w)`.
@@ -431,49 +373,9 @@ impl Model {
     }
 
     fn cut_at(&mut self, pose: &Pose) -> bool {
-        let disc = self.disc(pose);
-        let r = &self.params.rock;
-        let stats = cut(
-            &mut self.state.map,
-            &disc,
-            self.params.numerics.elastic_depth,
-            r.plastic_fraction,
-        );
-        self.state.excavated_volume += stats.volume;
-        let chips = self.chip_at(&disc, stats.nodes > 0);
-        if stats.nodes > 0 || chips {
-            self.cache.set(None);
-        }
-        stats.nodes > 0 || chips
-    }
-
-    /// Longest move in plan between two poses of one path: a path is cut in
-    /// sub-steps of at most `sweep_step` of rim travel; anything longer is a
-    /// jump to a new pass.
-    fn chip_max_step(&self) -> f64 {
-        let g = self.state.map.grid();
-        2.0 * self.params.numerics.sweep_step + g.dx.max(g.dy)
-    }
-
-    /// With chipping on, records the pose `disc` on the path (`cut`: the
-    /// disc removed rock there) and breaks out the chips it has reached;
-    /// returns whether any did.
-    fn chip_at(&mut self, disc: &PosedDisc, cut: bool) -> bool {
-        let p = &self.params.chipping;
-        if !p.enabled {
-            return false;
-        }
-        let max_step = self.chip_max_step();
-        let s = self.state.chips.after_cut(
-            &mut self.state.map,
-            p,
-            disc.lowest_point(),
-            cut,
-            disc.half_width,
-            max_step,
-        );
-        self.state.excavated_volume += s.volume;
-        s.count > 0
+        let s = &mut self.state;
+        self.disc
+            .cut_at(&mut s.face, &mut s.disc, pose, &self.params)
     }
 
     /// Cuts the rock at `pose` (a Model Exchange event). `dt` is the time since
@@ -496,7 +398,7 @@ impl Model {
         check_interval(dt)?;
         pose.validate()?;
         twist.validate()?;
-        let before = match self.state.last_cut {
+        let before = match self.state.disc.last_cut {
             Some(prev) => Some(match self.after_commit.get() {
                 Some((p, t, o)) if p == prev && t == *twist => o,
                 _ => self.evaluate(&prev, twist)?,
@@ -505,7 +407,7 @@ impl Model {
         };
         // the path, checked whole before anything changes
         let mut path: Option<(UnitQuaternion<f64>, UnitQuaternion<f64>, Pose, usize)> = None;
-        if let Some(prev) = self.state.last_cut {
+        if let Some(prev) = self.state.disc.last_cut {
             let jump = (pose.position - prev.position).norm();
             let explained = jump <= 2.0 * twist.velocity.norm() * dt + self.params.cutter.radius;
             if explained && prev != *pose {
@@ -537,10 +439,10 @@ impl Model {
                 changed |= m.cut_at(&along(k));
             }
             changed |= m.cut_at(pose);
-            m.state.last_cut = Some(*pose);
+            m.state.disc.last_cut = Some(*pose);
             let after = m.evaluate(pose, twist)?;
             m.after_commit.set(Some((*pose, *twist, after)));
-            m.state.cutting_energy += match before {
+            m.state.face.cutting_energy += match before {
                 Some(b) => 0.5 * (b.work_on_rock(twist, dt) + after.work_on_rock(twist, dt)),
                 None => after.work_on_rock(twist, dt),
             };
@@ -556,22 +458,20 @@ impl Model {
     fn transaction<T>(&mut self, f: impl FnOnce(&mut Self) -> Result<T>) -> Result<T> {
         let s = &self.state;
         let saved = (
-            s.excavated_volume,
-            s.cutting_energy,
-            s.last_cut,
-            s.chips,
-            self.cache.get(),
+            s.face.excavated_volume,
+            s.face.cutting_energy,
+            s.disc.clone(),
         );
-        self.state.map.begin_undo();
+        self.state.face.map.begin_undo();
         let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(self)));
         if let Ok(Ok(_)) = r {
-            self.state.map.commit_undo();
+            self.state.face.map.commit_undo();
         } else {
-            self.state.map.rollback();
+            self.state.face.map.rollback();
             let s = &mut self.state;
-            (s.excavated_volume, s.cutting_energy, s.last_cut, s.chips) =
-                (saved.0, saved.1, saved.2, saved.3);
-            self.cache.set(saved.4);
+            (s.face.excavated_volume, s.face.cutting_energy, s.disc) = saved;
+            // the rock is as it was, the cached evaluation may not be
+            self.disc.forget();
         }
         match r {
             Ok(v) => v,
@@ -608,7 +508,7 @@ impl Model {
             } else {
                 1.0
             };
-            visits += w * window_nodes(&self.state.map, &d) as f64;
+            visits += w * window_nodes(&self.state.face.map, &d) as f64;
         }
         if visits <= MAX_NODE_VISITS_PER_CALL {
             return Ok(());
@@ -641,17 +541,17 @@ impl Model {
         // the whole path is checked before anything changes
         self.check_visits((1..=n).map(along), "the step", h)?;
         self.transaction(|m| {
-            if m.state.last_cut.is_none() {
+            if m.state.disc.last_cut.is_none() {
                 m.cut_at(start);
-                m.state.last_cut = Some(*start);
+                m.state.disc.last_cut = Some(*start);
             }
             let o0 = m.evaluate(start, twist)?;
             if m.params.chipping.enabled {
                 // a path that does not continue the last one starts here: chip
                 // boundaries count on from this pose, not from the first sub-step
                 let low = m.disc(start).lowest_point();
-                let max_step = m.chip_max_step();
-                let c = &mut m.state.chips;
+                let max_step = chip_max_step(&m.state.face.map, &m.params);
+                let c = &mut m.state.disc.chips;
                 if c.last_low
                     .is_none_or(|p| (low.x - p[0]).hypot(low.y - p[1]) > max_step)
                 {
@@ -663,10 +563,10 @@ impl Model {
                 end = along(k);
                 m.cut_at(&end);
             }
-            m.cache.set(None);
             let o1 = m.evaluate(&end, twist)?;
-            m.state.cutting_energy += 0.5 * (o0.work_on_rock(twist, h) + o1.work_on_rock(twist, h));
-            m.state.last_cut = Some(end);
+            m.state.face.cutting_energy +=
+                0.5 * (o0.work_on_rock(twist, h) + o1.work_on_rock(twist, h));
+            m.state.disc.last_cut = Some(end);
             Ok(end)
         })
     }
@@ -678,21 +578,19 @@ impl Model {
 
     /// Restores a state taken from a model with the same grid.
     pub fn set_state(&mut self, s: &ModelState) -> Result<()> {
-        if s.map.grid() != self.state.map.grid()
-            || s.map.base_height() != self.state.map.base_height()
-        {
+        if !s.face.same_grid(&self.state.face) {
             return Err(KerfError::BadState(
                 "the state was taken for another rock grid".into(),
             ));
         }
         self.state = s.clone();
-        self.cache.set(None);
+        self.disc.forget();
         self.after_commit.set(None);
         Ok(())
     }
 
     /// Writes the committed surface as an `.rsf` file.
     pub fn write_surface(&self, path: &std::path::Path) -> Result<()> {
-        rsf::write(path, &self.state.map)
+        rsf::write(path, &self.state.face.map)
     }
 }

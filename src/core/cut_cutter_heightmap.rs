@@ -12,7 +12,7 @@
 //! zero one step after the rock under the cutter was removed).
 
 use super::cutter::PosedDisc;
-use super::heightmap::HeightMap;
+use super::heightmap::{Grid, HeightMap};
 
 /// What one cut removed.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -27,7 +27,53 @@ pub struct CutStats {
 /// asking for events that would change nothing measurable).
 pub const CUT_TOLERANCE: f64 = 1e-10;
 
-fn node_window(map: &HeightMap, disc: &PosedDisc) -> Option<(usize, usize, usize, usize)> {
+/// The nodes a cut at this pose may lower: rows `j0..=j1`, and in each row
+/// the nodes between two bounds on x.
+///
+/// The part of the disc below the highest rock near it lies in a box about
+/// the disc's heading (found as the world box of the disc turned about the
+/// vertical so that it heads along x); a row's nodes are those inside both
+/// that box and the world box. A disc heading diagonally (most discs of a
+/// cutterhead) scanned the whole world box of its footprint, up to six
+/// times the nodes. The highest rock is taken twice: near the whole disc,
+/// then under that first footprint only, which is tighter on a face that
+/// is not flat (a cutterhead's face steps by a revolution's penetration).
+struct Window {
+    j0: usize,
+    j1: usize,
+    /// World box `[x_lo, x_hi]` and the heading box: `(cos, sin)` of the
+    /// heading and `[u_lo, u_hi, v_lo, v_hi]` about the rock origin.
+    x: [f64; 2],
+    heading: (f64, f64),
+    uv: [f64; 4],
+}
+
+impl Window {
+    /// The node range of row `j`, or `None`.
+    fn row(&self, g: &Grid, j: usize) -> Option<(usize, usize)> {
+        let y = g.y_min + g.dy * j as f64;
+        let (c, s) = self.heading;
+        let [mut lo, mut hi] = self.x;
+        // u = x c + y s in [u_lo, u_hi], v = -x s + y c in [v_lo, v_hi]
+        let mut clip = |k: f64, b: f64, a_lo: f64, a_hi: f64| {
+            // a_lo <= k x + b <= a_hi
+            if k.abs() > 1e-12 {
+                let (p, q) = ((a_lo - b) / k, (a_hi - b) / k);
+                lo = lo.max(p.min(q));
+                hi = hi.min(p.max(q));
+            }
+        };
+        clip(c, y * s, self.uv[0], self.uv[1]);
+        clip(-s, y * c, self.uv[2], self.uv[3]);
+        // rounding: a node on the edge stays in
+        let pad = 1e-9;
+        let i0 = ((lo - pad - g.x_min) / g.dx).ceil().max(0.0);
+        let i1 = ((hi + pad - g.x_min) / g.dx).floor().min((g.nx - 1) as f64);
+        (i0 <= i1).then_some((i0 as usize, i1 as usize))
+    }
+}
+
+fn node_window(map: &HeightMap, disc: &PosedDisc) -> Option<Window> {
     let g = map.grid();
     let r = disc.radius;
     let (i0, i1, j0, j1) = g.node_range(
@@ -38,12 +84,38 @@ fn node_window(map: &HeightMap, disc: &PosedDisc) -> Option<(usize, usize, usize
     )?;
     let z_top = map.max_height(i0, i1, j0, j1);
     let bb = disc.footprint_below(z_top)?;
-    g.node_range(bb[0], bb[1], bb[2], bb[3])
+    let (i0, i1, j0, j1) = g.node_range(bb[0], bb[1], bb[2], bb[3])?;
+    let z_top = map.max_height(i0, i1, j0, j1).min(z_top);
+    let bb = disc.footprint_below(z_top)?;
+    let (_, _, j0, j1) = g.node_range(bb[0], bb[1], bb[2], bb[3])?;
+    // the disc turned by -heading about the rock's vertical axis
+    let heading = disc.rot[(1, 0)].atan2(disc.rot[(0, 0)]);
+    let (s, c) = heading.sin_cos();
+    let turn = nalgebra::Matrix3::new(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0);
+    let turned = PosedDisc {
+        rot: turn * disc.rot,
+        centre: turn * disc.centre,
+        ..*disc
+    };
+    let uv = turned.footprint_below(z_top)?;
+    Some(Window {
+        j0,
+        j1,
+        x: [bb[0], bb[1]],
+        heading: (c, s),
+        uv,
+    })
 }
 
 /// How many nodes [`cut`] or [`would_cut`] at this pose would scan at most.
 pub fn window_nodes(map: &HeightMap, disc: &PosedDisc) -> usize {
-    node_window(map, disc).map_or(0, |(i0, i1, j0, j1)| (i1 - i0 + 1) * (j1 - j0 + 1))
+    let g = map.grid();
+    node_window(map, disc).map_or(0, |w| {
+        (w.j0..=w.j1)
+            .filter_map(|j| w.row(g, j))
+            .map(|(i0, i1)| i1 - i0 + 1)
+            .sum()
+    })
 }
 
 /// Read access to the map, and writes where the caller may write.
@@ -81,7 +153,7 @@ fn sweep_nodes<M: Nodes>(
     fraction: Option<f64>,
 ) -> (CutStats, bool) {
     let mut stats = CutStats::default();
-    let Some((i0, i1, j0, j1)) = node_window(map.map(), disc) else {
+    let Some(w) = node_window(map.map(), disc) else {
         return (stats, false);
     };
     let g = *map.map().grid();
@@ -94,7 +166,10 @@ fn sweep_nodes<M: Nodes>(
     // a row along which y_local is constant (axle horizontal, heading along
     // a grid axis) has one rim circle, whose lowest point bounds the cut
     let const_row = horizontal && step.y == 0.0;
-    for j in j0..=j1 {
+    for j in w.j0..=w.j1 {
+        let Some((i0, i1)) = w.row(&g, j) else {
+            continue;
+        };
         let (x0, y) = g.node_xy(i0, j);
         let mut a =
             rt * nalgebra::Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);

@@ -1,0 +1,56 @@
+//! Cost of a cutterhead step: the layout's discs boring from the steady
+//! start at `rpm` with `p_rev` per revolution, `steps` steps of `h`.
+//! `cargo run --release --example head_cost -- layouts/reference-9.72m.json [h] [steps] [rpm] [p_rev]`
+//! Prints the median wall time per step and per disc-step (set
+//! RAYON_NUM_THREADS for the thread count).
+use kerf::core::head::{default_rock, DiscSpec, Head};
+use kerf::core::{layout, Params, Pose, Twist};
+use std::time::Instant;
+
+fn main() {
+    let a: Vec<String> = std::env::args().skip(1).collect();
+    let file = a.first().map_or("layouts/reference-9.72m.json", |s| s);
+    let num = |i: usize, d: f64| a.get(i).map_or(d, |s| s.parse().unwrap());
+    let (h, steps, rpm, p_rev) = (
+        num(1, 1e-3),
+        num(2, 200.0) as usize,
+        num(3, 3.0),
+        num(4, 0.006),
+    );
+    let lay = layout::load(std::path::Path::new(file)).unwrap();
+    let (half, nodes) = default_rock(&lay);
+    let mut p = Params::default();
+    (p.rock.x_min, p.rock.x_max, p.rock.y_min, p.rock.y_max) = (-half, half, -half, half);
+    (p.rock.nx, p.rock.ny) = (nodes, nodes);
+    let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
+    let n = specs.len();
+    let mut head = Head::new(p, specs).unwrap();
+    let t0 = Instant::now();
+    head.steady_start(p_rev).unwrap();
+    eprintln!("steady start {:.1} s", t0.elapsed().as_secs_f64());
+    let w = rpm * 2.0 * std::f64::consts::PI / 60.0;
+    let twist = Twist::new(
+        [0.0, 0.0, -p_rev * w / (2.0 * std::f64::consts::PI)],
+        [0.0, 0.0, w],
+    );
+    let mut pose = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    let mut times = Vec::with_capacity(steps);
+    let mut thrust = 0.0;
+    for _ in 0..steps {
+        let t = Instant::now();
+        pose = head.advance_head(&pose, &twist, h).unwrap();
+        let o = head.evaluate_head(&pose, &twist).unwrap();
+        times.push(t.elapsed().as_secs_f64());
+        thrust = o.thrust;
+    }
+    times.sort_by(f64::total_cmp);
+    let med = times[steps / 2];
+    println!(
+        "{file}: {n} discs, h = {h} s: median {:.2} ms per step, {:.1} us per disc-step, \
+         {:.2} s wall per machine second; thrust {:.0} kN",
+        med * 1e3,
+        med * 1e6 / n as f64,
+        med / h,
+        thrust / 1e3
+    );
+}

@@ -17,8 +17,8 @@
 use nalgebra::Vector3;
 
 use super::contact_cutter_heightmap::{
-    arc_contribution, assemble, flank_below, look_ahead, rock_over, slice_y,
-    still_there_tolerance, Contact,
+    arc_contribution, assemble, flank_below, look_ahead, rock_over, slice_y, still_there_tolerance,
+    Contact,
 };
 use super::contact_law::{Element, Load, Motion};
 use super::csm::CsmLaw;

@@ -290,11 +290,7 @@ impl Element {
                 c: Vector3::new(lever, 0.0, 0.0),
                 k: Vector3::zeros(),
             },
-            vn: (
-                m.v.x * n + m.w.z * kk,
-                -m.v.z * n + m.w.x * kk,
-                m.v.y * ny,
-            ),
+            vn: (m.v.x * n + m.w.z * kk, -m.v.z * n + m.w.x * kk, m.v.y * ny),
             vn_eps: m.vn_eps,
             y,
             radius: rho,

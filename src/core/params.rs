@@ -235,7 +235,10 @@ impl CutterParams {
     /// whose normal leans `asin(T / 2r)` off the radius, so the angle may not
     /// exceed `pi/2 - asin(T / 2r)` (59.2 deg for the thesis's disc).
     pub fn max_flank_angle(&self) -> f64 {
-        std::f64::consts::FRAC_PI_2 - (0.5 * self.tip_width / self.tip_radius).clamp(-1.0, 1.0).asin()
+        std::f64::consts::FRAC_PI_2
+            - (0.5 * self.tip_width / self.tip_radius)
+                .clamp(-1.0, 1.0)
+                .asin()
     }
 
     /// The rules of the flanked section (beyond the bounds): with flanks on,

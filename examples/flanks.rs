@@ -1,37 +1,53 @@
 //! What flanks change (docs/flanks.md): N/R/S cutting forces on the tilted
 //! (10, 30, 60 deg at 3.8 mm) and deep (8, 12 mm, upright) fresh cuts, for
-//! the thesis's disc (flank angle 0) and the same disc with flanks, and the
-//! fast contact against the brute-force oracle at the flanked scenes' end
-//! poses: `cargo run --release --example flanks` (prints a Markdown table).
+//! the thesis's disc (flank angle 0) and the same disc with 20 and 30 deg
+//! flanks, the cost of a step, and the fast contact against the brute-force
+//! oracle at the flanked scenes' end poses:
+//! `cargo run --release --example flanks > docs/flanks-table.md`.
 use kerf::core::contact_bruteforce::Resolution;
 use kerf::scenes::*;
 
 fn main() {
-    let flat = flanked_cutter(0.0);
-    let fl = flanked_cutter(FLANK_DEG);
+    let discs = [0.0, 20.0, FLANK_DEG];
     println!(
-        "Flanked disc: flank angle {FLANK_DEG} deg, hub width {} mm; otherwise the thesis's disc (R 215.9 mm, T 13 mm, r 12.7 mm). 1 mm cells, 1 m/s, mean over 0.06-0.14 m of a fresh cut; cutting forces (no friction) in kN.\n",
+        "The thesis's disc (R 215.9 mm, T 13 mm, r 12.7 mm) with flank angle f = {:?} deg and hub width {} mm. Fresh cuts at 1 mm cells, 1 m/s, mean over 0.06-0.14 m; cutting forces (no friction) in kN: N normal, R rolling, S side.\n",
+        discs,
         HUB_WIDTH * 1e3
     );
-    println!("| scene | N flat | N flanks | R flat | R flanks | S flat | S flanks |");
-    println!("|---|---|---|---|---|---|---|");
+    println!("| scene | f | N | R | S | N / flat | S / flat | median us / step |");
+    println!("|---|---|---|---|---|---|---|---|");
     for (name, depth, roll) in flank_cases() {
-        let a = fresh_disc(&flat, 1e-3, depth, roll).cutting;
-        let b = fresh_disc(&fl, 1e-3, depth, roll).cutting;
-        println!(
-            "| {name} | {:.1} | {:.1} | {:.2} | {:.2} | {:.2} | {:.2} |",
-            a[0] / 1e3,
-            b[0] / 1e3,
-            a[1] / 1e3,
-            b[1] / 1e3,
-            a[2] / 1e3,
-            b[2] / 1e3
-        );
+        let mut flat = [0.0; 3];
+        for f in discs {
+            let m = fresh_disc(&flanked_cutter(f), 1e-3, depth, roll);
+            let c = m.cutting;
+            if f == 0.0 {
+                flat = c;
+            }
+            let ratio = |i: usize| {
+                if flat[i].abs() > 1.0 {
+                    format!("{:.2}", c[i] / flat[i])
+                } else {
+                    "-".into()
+                }
+            };
+            println!(
+                "| {name} | {f} | {:.1} | {:.2} | {:.2} | {} | {} | {:.0} |",
+                c[0] / 1e3,
+                c[1] / 1e3,
+                c[2] / 1e3,
+                ratio(0),
+                ratio(2),
+                m.us_median
+            );
+        }
     }
-    println!("\nFast contact vs the brute-force oracle, flanked disc, end pose of each scene (kN; difference in % of the fresh cut's 60.8 kN normal force):\n");
-    println!("| scene | fast N/R/S | oracle N/R/S | diff % N/R/S |");
+    println!(
+        "\nFast contact vs the brute-force oracle, flank angle {FLANK_DEG} deg, end pose of each scene (kN; difference in % of the fresh cut's 60.8 kN normal force):\n"
+    );
+    println!("| scene | fast N / R / S | oracle N / R / S | diff % N / R / S |");
     println!("|---|---|---|---|");
-    for (name, m, pose, tw) in flank_scenes(&fl, 1e-3) {
+    for (name, m, pose, tw) in flank_scenes(&flanked_cutter(FLANK_DEG), 1e-3) {
         let f = cutting_force(&pose, &m.contact(&pose, &tw));
         let o = cutting_force(&pose, &m.contact_brute(&pose, &tw, &Resolution::default()));
         let d: Vec<f64> = (0..3).map(|i| (f[i] - o[i]) / 60_795.388 * 100.0).collect();

@@ -359,7 +359,7 @@ pub fn cutting_force(pose: &Pose, c: &crate::core::contact_cutter_heightmap::Con
 
 /// Flank angle of the flanked scenes \[deg\] (docs/flanks.md: a typical CCS
 /// ring, inferred).
-pub const FLANK_DEG: f64 = 20.0;
+pub const FLANK_DEG: f64 = 30.0;
 /// Hub width of the flanked scenes \[m\] (`params::HUB_WIDTH_DEFAULT`).
 pub const HUB_WIDTH: f64 = crate::core::params::HUB_WIDTH_DEFAULT;
 

@@ -289,8 +289,11 @@ impl PosedDisc {
         if t1 > t2 {
             std::mem::swap(&mut t1, &mut t2);
         }
+        // the line enters the radius-R cylinder at t_r: below it, it is
+        // outside the solid, and Newton may start there
         let (ca, cb) = (d.x * d.x + d.z * d.z, a.x * d.x + a.z * d.z);
         let cc = a.x * a.x + a.z * a.z - self.radius * self.radius;
+        let mut t_r = f64::NEG_INFINITY;
         if ca > 0.0 {
             let disc2 = cb * cb - ca * cc;
             if disc2 < 0.0 {
@@ -300,6 +303,7 @@ impl PosedDisc {
             if hi < t1 || lo > t2 {
                 return None;
             }
+            t_r = lo;
         } else if cc > 0.0 {
             return None;
         }
@@ -324,8 +328,8 @@ impl PosedDisc {
             };
             (q.x * d.x + q.z * d.z) / m - drho * d.y
         };
-        let mut t = t1;
-        let mut gt = g(t1);
+        let mut t = t1.max(t_r);
+        let mut gt = g(t);
         let mut inn = f64::NAN;
         for _ in 0..60 {
             let slope = dg(t);
@@ -356,6 +360,9 @@ impl PosedDisc {
     pub fn footprint_below(&self, z_top: f64) -> Option<[f64; 4]> {
         // padding for rounding
         const PAD: f64 = 1e-9;
+        if self.has_flanks() {
+            return self.footprint_flanked(z_top);
+        }
         let rho = self.radius;
         let axle = self.rot.column(1).into_owned();
         if axle.z.abs() > 1e-12 {
@@ -364,9 +371,9 @@ impl PosedDisc {
             // lands in that cap's radius-R disc; so the part below z_top lies
             // in the cap disc's segment below z_top swept back along the axle
             // segment (Minkowski sum with {0, 2h sign(a_z) a}).
-            let s0 = -self.hub_half_width * axle.z.signum();
+            let s0 = -self.half_width * axle.z.signum();
             let bb = self.arc_box(s0, rho, z_top)?;
-            let sweep = axle * (2.0 * self.hub_half_width * axle.z.signum());
+            let sweep = axle * (2.0 * self.half_width * axle.z.signum());
             return Some([
                 bb[0] + sweep.x.min(0.0) - PAD,
                 bb[1] + sweep.x.max(0.0) + PAD,
@@ -380,13 +387,84 @@ impl PosedDisc {
         // two lines parallel to the axle, so the part of the solid below z_top
         // lies in the hull of the radius-R arcs below z_top at the two ends of
         // the axle segment.
-        let a = self.arc_box(-self.hub_half_width, rho, z_top)?;
-        let b = self.arc_box(self.hub_half_width, rho, z_top)?;
+        let a = self.arc_box(-self.half_width, rho, z_top)?;
+        let b = self.arc_box(self.half_width, rho, z_top)?;
         Some([
             a[0].min(b[0]) - PAD,
             a[1].max(b[1]) + PAD,
             a[2].min(b[2]) - PAD,
             a[3].max(b[3]) + PAD,
+        ])
+    }
+
+    /// [`footprint_below`](Self::footprint_below) of the flanked solid: the
+    /// union of the boxes of its pieces, the tip slab (`|y| <= T/2`, radius
+    /// at most `R`) and each flank cut into slabs of axle coordinate, each
+    /// within the radius of its inner end (the flank narrows outwards). A
+    /// slab `[y0, y1]` of radius at most `rho` lies, as in the plain case, in
+    /// its lower end cap's radius-`rho` disc swept along the slab (tilted
+    /// axle) or in the hull of its two end caps' arcs (horizontal axle). Thin
+    /// slabs keep the box near the flank itself, where one slab for the whole
+    /// solid would sweep the tip's radius `R` out to the hub.
+    fn footprint_flanked(&self, z_top: f64) -> Option<[f64; 4]> {
+        const PAD: f64 = 1e-9;
+        let (h, hw) = (self.half_width, self.hub_half_width);
+        let mut bb = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let mut any = false;
+        let mut add = |b: Option<[f64; 4]>| {
+            if let Some(b) = b {
+                any = true;
+                bb = [
+                    bb[0].min(b[0]),
+                    bb[1].max(b[1]),
+                    bb[2].min(b[2]),
+                    bb[3].max(b[3]),
+                ];
+            }
+        };
+        add(self.slab_box(-h, h, self.radius, z_top));
+        // slabs that over-reach the flank's radius by at most 1 mm (32 at most)
+        let n = ((hw - h) * self.flank_cot / 1e-3).ceil().clamp(1.0, 32.0) as usize;
+        let dy = (hw - h) / n as f64;
+        for k in 0..n {
+            let (y0, y1) = (h + dy * k as f64, h + dy * (k + 1) as f64);
+            let rho = self.rho_full(y0);
+            add(self.slab_box(y0, y1, rho, z_top));
+            add(self.slab_box(-y1, -y0, rho, z_top));
+        }
+        any.then_some([bb[0] - PAD, bb[1] + PAD, bb[2] - PAD, bb[3] + PAD])
+    }
+
+    /// Box of the part below `z_top` of the slab `y0 <= y <= y1` of the
+    /// radius-`rho` cylinder about the axle (see [`footprint_flanked`](Self::footprint_flanked)).
+    fn slab_box(&self, y0: f64, y1: f64, rho: f64, z_top: f64) -> Option<[f64; 4]> {
+        let axle = self.rot.column(1).into_owned();
+        if axle.z.abs() > 1e-12 {
+            let (low, sweep) = if axle.z > 0.0 {
+                (y0, axle * (y1 - y0))
+            } else {
+                (y1, -axle * (y1 - y0))
+            };
+            let bb = self.arc_box(low, rho, z_top)?;
+            return Some([
+                bb[0] + sweep.x.min(0.0),
+                bb[1] + sweep.x.max(0.0),
+                bb[2] + sweep.y.min(0.0),
+                bb[3] + sweep.y.max(0.0),
+            ]);
+        }
+        let a = self.arc_box(y0, rho, z_top)?;
+        let b = self.arc_box(y1, rho, z_top)?;
+        Some([
+            a[0].min(b[0]),
+            a[1].max(b[1]),
+            a[2].min(b[2]),
+            a[3].max(b[3]),
         ])
     }
 

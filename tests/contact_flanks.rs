@@ -122,6 +122,8 @@ fn footprint_and_lowest_point_hold_the_flanks() {
         (0.3, 0.1, 0.6),
         (0.0, 0.0, 1.2),
         (0.7, -0.2, -1.4),
+        (0.0, 0.0, 60f64.to_radians()),
+        (0.2, 0.0, -0.3),
     ] {
         let d = PosedDisc::new(&c, &Pose::new(0.0, 0.0, 0.2, yaw, pitch, roll));
         // the lowest point: the lowest of a fine sampling of the section's
@@ -139,11 +141,52 @@ fn footprint_and_lowest_point_hold_the_flanks() {
             best = best.min(p.z);
         }
         assert!(
-            low.z <= best + 1e-12 && low.z > best - 1e-7,
+            // lowest_point samples 201 slices of the tip: (T/200)^2 / r
+            low.z <= best + (c.tip_width / 200.0).powi(2) / c.tip_radius && low.z > best - 1e-7,
             "{yaw} {pitch} {roll}: {} vs {best}",
             low.z
         );
-        // every point of the solid below z_top lies in the footprint
+        // every point of the solid below z_top lies in the footprint: the
+        // extremes of a convex solid cut by a plane are on its section
+        // circles, sampled densely (400 x 3000)
+        for dz in [0.0005, 0.002, 0.01, 0.05] {
+            let z_top = low.z + dz;
+            let bb = d.footprint_below(z_top).unwrap();
+            let mut ext = [
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            ];
+            for k in 0..=400 {
+                let y = -d.hub_half_width + 2.0 * d.hub_half_width * k as f64 / 400.0;
+                let rho = d.rho_full(y);
+                for i in 0..3000 {
+                    let t = std::f64::consts::TAU * i as f64 / 3000.0;
+                    let p = d.to_world(&Vector3::new(rho * t.sin(), y, -rho * t.cos()));
+                    if p.z < z_top {
+                        assert!(
+                            p.x >= bb[0] && p.x <= bb[1] && p.y >= bb[2] && p.y <= bb[3],
+                            "{yaw} {pitch} {roll} dz {dz}: {p} outside {bb:?}"
+                        );
+                        ext = [
+                            ext[0].min(p.x),
+                            ext[1].max(p.x),
+                            ext[2].min(p.y),
+                            ext[3].max(p.y),
+                        ];
+                    }
+                }
+            }
+            eprintln!(
+                "{yaw} {pitch} {roll} dz {dz}: box {:.1} x {:.1} mm, solid {:.1} x {:.1} mm",
+                (bb[1] - bb[0]) * 1e3,
+                (bb[3] - bb[2]) * 1e3,
+                (ext[1] - ext[0]) * 1e3,
+                (ext[3] - ext[2]) * 1e3
+            );
+        }
+        // and the vertical lines that meet the solid below z_top
         let z_top = low.z + 0.03;
         let bb = d.footprint_below(z_top).unwrap();
         let n = 200;

@@ -2,7 +2,8 @@
 //! (10, 30, 60 deg at 3.8 mm) and deep (8, 12 mm, upright) fresh cuts, for
 //! the thesis's disc (flank angle 0) and the same disc with 20 and 30 deg
 //! flanks, the cost of a step, and the fast contact against the brute-force
-//! oracle at the flanked scenes' end poses:
+//! oracle at the flanked scenes' end poses, and how the flanked scenes
+//! converge with the cell size (1, 0.5, 0.25 mm):
 //! `cargo run --release --example flanks > docs/flanks-table.md`.
 use kerf::core::contact_bruteforce::Resolution;
 use kerf::scenes::*;
@@ -62,6 +63,34 @@ fn main() {
             d[0],
             d[1],
             d[2]
+        );
+    }
+    println!(
+        "\nConvergence, flank angle {FLANK_DEG} deg: N / R / S (kN) at 1, 0.5 and 0.25 mm cells, and the largest difference of 1 mm from 0.25 mm in % of 60.8 kN:\n"
+    );
+    println!("| scene | 1 mm | 0.5 mm | 0.25 mm | 1 mm vs 0.25 mm |");
+    println!("|---|---|---|---|---|");
+    let fl = flanked_cutter(FLANK_DEG);
+    let kn = |c: [f64; 3]| format!("{:.1} / {:.2} / {:.1}", c[0] / 1e3, c[1] / 1e3, c[2] / 1e3);
+    let mut cases = flank_cases();
+    for g in [0.5f64, 1.0, 1.5, 2.0, 2.5, 3.0] {
+        cases.push((format!("tilt {g}"), P_REF, g.to_radians()));
+    }
+    for (name, depth, roll) in cases {
+        let c: Vec<[f64; 3]> = [1e-3, 0.5e-3, 0.25e-3]
+            .iter()
+            .map(|&cell| fresh_disc(&fl, cell, depth, roll).cutting)
+            .collect();
+        let e = (0..3)
+            .map(|i| (c[0][i] - c[2][i]).abs())
+            .fold(0.0, f64::max)
+            / 60_795.388
+            * 100.0;
+        println!(
+            "| {name} | {} | {} | {} | {e:.1} |",
+            kn(c[0]),
+            kn(c[1]),
+            kn(c[2])
         );
     }
 }

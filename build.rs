@@ -44,6 +44,8 @@ const INTERFACE: &[(&str, &str, &str, &str)] = &[
     ("cutter.radius", "Real", "parameter", "m"),
     ("cutter.tipWidth", "Real", "parameter", "m"),
     ("cutter.tipRadius", "Real", "parameter", "m"),
+    ("cutter.flankAngle", "Real", "parameter", "rad"),
+    ("cutter.hubWidth", "Real", "parameter", "m"),
     ("rock.ucs", "Real", "parameter", "Pa"),
     ("rock.bts", "Real", "parameter", "Pa"),
     ("csm.C", "Real", "parameter", "1"),

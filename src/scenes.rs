@@ -12,6 +12,7 @@
 use nalgebra::Vector3;
 
 use crate::core::cutter::PosedDisc;
+use crate::core::params::CutterParams;
 use crate::core::{Model, Outputs, Params, Pose, Twist};
 
 /// Penetration of the reference scene \[m\].
@@ -354,4 +355,70 @@ pub fn oracle_scenes(cell: f64) -> Vec<(String, Model, Pose, Twist)> {
 pub fn cutting_force(pose: &Pose, c: &crate::core::contact_cutter_heightmap::Contact) -> [f64; 3] {
     let f = pose.rotation().transpose() * (c.rim_force + c.side_force);
     [f.z, -f.x, f.y]
+}
+
+/// Flank angle of the flanked scenes \[deg\] (docs/flanks.md: a typical CCS
+/// ring, inferred).
+pub const FLANK_DEG: f64 = 30.0;
+/// Hub width of the flanked scenes \[m\] (`params::HUB_WIDTH_DEFAULT`).
+pub const HUB_WIDTH: f64 = crate::core::params::HUB_WIDTH_DEFAULT;
+
+/// The thesis's disc with flanks at `flank_deg` to the hub width
+/// [`HUB_WIDTH`] (0: the thesis's disc itself).
+pub fn flanked_cutter(flank_deg: f64) -> CutterParams {
+    CutterParams {
+        flank_angle: flank_deg.to_radians(),
+        hub_width: HUB_WIDTH,
+        ..CutterParams::default()
+    }
+}
+
+/// [`fresh`] with the disc `cutter`.
+pub fn fresh_disc(cutter: &CutterParams, cell: f64, depth: f64, roll: f64) -> Mean {
+    let mut prm = face(cell, -0.3, 0.5, -0.08, 0.08);
+    prm.cutter = *cutter;
+    let mut m = Model::new(prm.clone()).unwrap();
+    let t = Straight {
+        prm,
+        x0: 0.0,
+        y: 0.0,
+        depth,
+        roll,
+    };
+    roll_track(&mut m, &t)
+}
+
+/// The scenes flanks change (docs/flanks.md), with the disc `cutter`: a
+/// fresh cut 3.8 mm deep tilted 10, 30 and 60 deg, and upright fresh cuts
+/// 8 and 12 mm deep.
+pub fn flank_cases() -> Vec<(String, f64, f64)> {
+    let mut v = Vec::new();
+    for g in [10.0f64, 30.0, 60.0] {
+        v.push((format!("tilt {g}"), P_REF, g.to_radians()));
+    }
+    for p in [8e-3, 12e-3] {
+        v.push((format!("deep {} mm", p * 1e3), p, 0.0));
+    }
+    v
+}
+
+/// The end states of [`flank_cases`] for the disc `cutter` at cells of
+/// `cell` (for the oracle).
+pub fn flank_scenes(cutter: &CutterParams, cell: f64) -> Vec<(String, Model, Pose, Twist)> {
+    let mut prm = face(cell, -0.3, 0.5, -0.08, 0.08);
+    prm.cutter = *cutter;
+    flank_cases()
+        .into_iter()
+        .map(|(name, depth, roll)| {
+            let t = Straight {
+                prm: prm.clone(),
+                x0: 0.0,
+                y: 0.0,
+                depth,
+                roll,
+            };
+            let (m, p, tw) = rolled(&prm, &[(&t, 0.1)]);
+            (name, m, p, tw)
+        })
+        .collect()
 }

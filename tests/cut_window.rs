@@ -50,40 +50,46 @@ fn brute_cut(map: &mut HeightMap, disc: &PosedDisc, fraction: f64) -> usize {
 
 #[test]
 fn the_windowed_cut_lowers_exactly_the_nodes_a_full_scan_lowers() {
-    let c = CutterParams::default();
+    let flanked = CutterParams {
+        flank_angle: 30f64.to_radians(),
+        hub_width: 0.04,
+        ..CutterParams::default()
+    };
     let mut checked = 0;
-    for heading in [0.0f64, 17.0, 45.0, 90.0, 133.0, 250.0] {
-        for tilt in [0.0f64, 12.0, 35.0, 60.0] {
-            for (x, y, depth) in [(0.0, 0.0, 0.004), (0.06, -0.02, 0.007), (-0.1, 0.1, 0.001)] {
-                let (yaw, roll) = (heading.to_radians(), tilt.to_radians());
-                let probe = Pose::new(0.0, 0.0, 1.0, yaw, 0.0, roll);
-                let low = PosedDisc::new(&c, &probe).lowest_point();
-                let pose = Pose::new(x - low.x, y - low.y, 1.0 - low.z - depth, yaw, 0.0, roll);
-                let disc = PosedDisc::new(&c, &pose);
-                let (mut a, mut b) = (face(), face());
-                let stats = cut(&mut a, &disc, ELASTIC, 1.0);
-                let n = brute_cut(&mut b, &disc, 1.0);
-                assert_eq!(
-                    stats.nodes, n,
-                    "heading {heading} tilt {tilt} at ({x}, {y})"
-                );
-                let g = *a.grid();
-                for j in 0..g.ny {
-                    for i in 0..g.nx {
-                        let (za, zb) = (a.node(i, j), b.node(i, j));
-                        assert!(
-                            (za - zb).abs() < 1e-12,
-                            "heading {heading} tilt {tilt}: node ({i}, {j}) {za} vs {zb}"
-                        );
+    for c in [CutterParams::default(), flanked] {
+        for heading in [0.0f64, 17.0, 45.0, 90.0, 133.0, 250.0] {
+            for tilt in [0.0f64, 12.0, 35.0, 60.0] {
+                for (x, y, depth) in [(0.0, 0.0, 0.004), (0.06, -0.02, 0.007), (-0.1, 0.1, 0.001)] {
+                    let (yaw, roll) = (heading.to_radians(), tilt.to_radians());
+                    let probe = Pose::new(0.0, 0.0, 1.0, yaw, 0.0, roll);
+                    let low = PosedDisc::new(&c, &probe).lowest_point();
+                    let pose = Pose::new(x - low.x, y - low.y, 1.0 - low.z - depth, yaw, 0.0, roll);
+                    let disc = PosedDisc::new(&c, &pose);
+                    let (mut a, mut b) = (face(), face());
+                    let stats = cut(&mut a, &disc, ELASTIC, 1.0);
+                    let n = brute_cut(&mut b, &disc, 1.0);
+                    assert_eq!(
+                        stats.nodes, n,
+                        "heading {heading} tilt {tilt} at ({x}, {y})"
+                    );
+                    let g = *a.grid();
+                    for j in 0..g.ny {
+                        for i in 0..g.nx {
+                            let (za, zb) = (a.node(i, j), b.node(i, j));
+                            assert!(
+                                (za - zb).abs() < 1e-12,
+                                "heading {heading} tilt {tilt}: node ({i}, {j}) {za} vs {zb}"
+                            );
+                        }
                     }
+                    assert!(
+                        n > 0,
+                        "heading {heading} tilt {tilt}: the scene cuts nothing"
+                    );
+                    checked += 1;
                 }
-                assert!(
-                    n > 0,
-                    "heading {heading} tilt {tilt}: the scene cuts nothing"
-                );
-                checked += 1;
             }
         }
     }
-    assert_eq!(checked, 72);
+    assert_eq!(checked, 144);
 }

@@ -57,6 +57,16 @@ fn xml_start_values_equal_params_default() {
             real("cutter.tipRadius"),
             d.cutter.tip_radius,
         ),
+        (
+            "cutter.flankAngle",
+            real("cutter.flankAngle"),
+            d.cutter.flank_angle,
+        ),
+        (
+            "cutter.hubWidth",
+            real("cutter.hubWidth"),
+            d.cutter.hub_width,
+        ),
         ("rock.ucs", real("rock.ucs"), d.csm.ucs),
         ("rock.bts", real("rock.bts"), d.csm.bts),
         ("csm.C", real("csm.C"), d.csm.c),

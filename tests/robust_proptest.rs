@@ -19,6 +19,8 @@ fn set(p: &mut Params, name: &str, v: f64) {
         "cutter.radius" => p.cutter.radius = v,
         "cutter.tipWidth" => p.cutter.tip_width = v,
         "cutter.tipRadius" => p.cutter.tip_radius = v,
+        "cutter.flankAngle" => p.cutter.flank_angle = v,
+        "cutter.hubWidth" => p.cutter.hub_width = v,
         "rock.ucs" => p.csm.ucs = v,
         "rock.bts" => p.csm.bts = v,
         "csm.C" => p.csm.c = v,

@@ -9,6 +9,9 @@
 // (exact below 2^53). The reasons, in order:
 // - disc: 20 mm to 2 m radius covers lab discs to the largest TBM discs with
 //   a margin (17 in = 0.2159 m, 21 in = 0.27 m); tips 0.1 mm to 0.2 m;
+//   flank angle 0 (flat side faces, the thesis) to 1.4 rad (80 deg; the
+//   convexity rule in params.rs bounds it further, to 59 deg for the
+//   thesis's tip), hub width 0.1 mm to 0.4 m (CCS rings are 50-100 mm wide);
 // - rock: 0.1 MPa (chalk) to 1 GPa UCS, 10 kPa to 100 MPa BTS, C and spacing
 //   as the CSM literature uses them with a factor 10-100 of margin;
 // - face: coordinates within 10 km of the origin (the pose inputs allow 1000 km,
@@ -21,6 +24,8 @@ pub const PARAMETER_BOUNDS: &[(&str, f64, f64)] = &[
     ("cutter.radius", 0.02, 2.0),
     ("cutter.tipWidth", 1e-4, 0.2),
     ("cutter.tipRadius", 1e-4, 0.2),
+    ("cutter.flankAngle", 0.0, 1.4),
+    ("cutter.hubWidth", 1e-4, 0.4),
     ("rock.ucs", 1e5, 1e9),
     ("rock.bts", 1e4, 1e8),
     ("csm.C", 1e-3, 100.0),

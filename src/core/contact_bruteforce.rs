@@ -4,7 +4,8 @@
 //! default path.
 //!
 //! The disc's surface is sampled finely: `slices` rim circles across the tip
-//! and `rings` circles on a tilted disc's lower side face, each walked from
+//! `rings` circles on a tilted disc's lower side face (the hub face with
+//! flanks) and `flank_bands` circles along each flank, each walked from
 //! its lowest point in steps of `ds` of arc. The same reading of the rock
 //! (`rock_over`) decides, sample by sample, where the contact arc starts
 //! (the first sample inside the rock) and ends (the first sample with no
@@ -16,7 +17,8 @@
 use nalgebra::Vector3;
 
 use super::contact_cutter_heightmap::{
-    arc_contribution, assemble, look_ahead, rock_over, slice_y, still_there_tolerance, Contact,
+    arc_contribution, assemble, flank_below, look_ahead, rock_over, slice_y, still_there_tolerance,
+    Contact,
 };
 use super::contact_law::{Element, Load, Motion};
 use super::csm::CsmLaw;
@@ -34,15 +36,20 @@ pub struct Resolution {
     pub slices: usize,
     /// Circles across a tilted disc's lower side face.
     pub rings: usize,
+    /// Circles along each flank, over the part of it that reaches below the
+    /// highest rock under the disc (flanked discs only).
+    pub flank_bands: usize,
 }
 
 impl Default for Resolution {
-    /// 0.05 mm of arc, 101 slices (0.13 mm apart), 60 rings.
+    /// 0.05 mm of arc, 101 slices (0.13 mm apart), 60 rings, 200 bands
+    /// along each flank.
     fn default() -> Self {
         Self {
             ds: 5e-5,
             slices: 101,
             rings: 60,
+            flank_bands: 200,
         }
     }
 }
@@ -78,11 +85,36 @@ pub fn contact_brute(
     let axle_z = disc.rot[(2, 1)];
     if axle_z.abs() > 1e-12 {
         let side = -axle_z.signum();
-        let r_hi = disc.rho(h);
+        let r_hi = disc.rho_full(disc.hub_half_width);
         let dr = r_hi / res.rings as f64;
         for j in 0..res.rings {
             let r = dr * (j as f64 + 0.5);
             circles.push((Element::ring(disc, side, r, dr, &motion), true));
+        }
+    }
+    if disc.has_flanks() {
+        // the flanks, finely, where they can reach the rock at all
+        let g = map.grid();
+        let r = disc.radius;
+        let top = g
+            .node_range(
+                disc.centre.x - r - g.dx,
+                disc.centre.x + r + g.dx,
+                disc.centre.y - r - g.dy,
+                disc.centre.y + r + g.dy,
+            )
+            .map(|(i0, i1, j0, j1)| map.max_height(i0, i1, j0, j1));
+        let (sn, _) = disc.flank_normal();
+        for side in [1.0f64, -1.0] {
+            let Some((s_lo, s_hi)) = top.and_then(|t| flank_below(disc, side, t)) else {
+                continue;
+            };
+            let ds = (s_hi - s_lo) / res.flank_bands as f64;
+            for j in 0..res.flank_bands {
+                let s = s_lo + ds * (j as f64 + 0.5);
+                let y = side * (h + s * sn);
+                circles.push((Element::flank(disc, y, ds, &motion), true));
+            }
         }
     }
     let mut loads = [[Load::default(); 2]; 2];

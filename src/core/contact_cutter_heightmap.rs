@@ -402,6 +402,38 @@ const NEGLIGIBLE_WEIGHT: f64 = 1e-14;
 /// the radius; each ring's arcs are exact).
 const MAX_RINGS: usize = 24;
 
+/// Most bands sampled along each flank (midpoint rule along the flank;
+/// each band's arcs are exact).
+const MAX_FLANK_BANDS: usize = 24;
+
+/// The part `[s_lo, s_hi]` of the flank on `side` (`s` the distance along
+/// the flank from the tip's edge) whose circles reach below `z_top`: the
+/// lowest point of a circle about the axle is `centre.z + a_z y - m rho`,
+/// linear in `s` along the straight flank. `None` without flanks or when
+/// the whole flank is above `z_top`.
+pub fn flank_below(disc: &PosedDisc, side: f64, z_top: f64) -> Option<(f64, f64)> {
+    if !disc.has_flanks() {
+        return None;
+    }
+    let (h, hw) = (disc.half_width, disc.hub_half_width);
+    let (sn, cn) = disc.flank_normal();
+    // on the flank at angle f, y = side (h + s sin f), rho = rho(h) - s cos f
+    let len = (hw - h) / sn;
+    let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
+    let az = disc.rot[(2, 1)];
+    let z0 = disc.centre.z + az * side * h - m * disc.rho(h);
+    let k = az * side * sn + m * cn;
+    let (mut lo, mut hi) = (0.0f64, len);
+    if k > 1e-15 {
+        hi = hi.min((z_top - z0) / k);
+    } else if k < -1e-15 {
+        lo = lo.max((z_top - z0) / k);
+    } else if z0 >= z_top {
+        return None;
+    }
+    (hi > lo).then_some((lo, hi))
+}
+
 /// The look-ahead of the "rock still there" test, in cells (or sweep steps,
 /// whichever is longer): long enough to reach past the scallops a swept cut
 /// leaves between its sub-steps.
@@ -552,8 +584,10 @@ struct Circle {
     radius: f64,
     /// Strip width across the tip (rim) or band width (ring).
     width: f64,
-    /// 0 for a rim slice, the face's side (+1 / -1) for a ring.
+    /// 0 for a rim slice, the face's side (+1 / -1) for a ring or a flank.
     face: f64,
+    /// A flank band (`width` is then its width along the flank).
+    flank: bool,
 }
 
 /// The contact of `disc` with `map` under `law` (kerf's law), for a disc
@@ -589,7 +623,8 @@ pub fn contact(
     let motion = Motion::new(disc, twist, LOOK_AHEAD_CELLS * look.max(num.sweep_step));
 
     // the circles: rim slices, then rings on the side face that faces down
-    let mut circles = [Circle::default(); 101 + MAX_RINGS];
+    // (the hub face with flanks), then bands along the flanks
+    let mut circles = [Circle::default(); 101 + MAX_RINGS + 2 * MAX_FLANK_BANDS];
     let mut nc = 0;
     for k in 0..n {
         let y = slice_y(h, n, k);
@@ -598,6 +633,7 @@ pub fn contact(
             radius: disc.rho(y),
             width: 2.0 * h / n as f64,
             face: 0.0,
+            flank: false,
         };
         nc += 1;
     }
@@ -605,9 +641,10 @@ pub fn contact(
     if axle_z.abs() > 1e-12 {
         let side = -axle_z.signum();
         let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
-        let r_hi = disc.rho(h);
+        let hw = disc.hub_half_width;
+        let r_hi = disc.rho_full(hw);
         let r_lo = if m > 1e-12 {
-            ((disc.centre.z + axle_z * side * h - z_top) / m).max(0.0)
+            ((disc.centre.z + axle_z * side * hw - z_top) / m).max(0.0)
         } else {
             0.0
         };
@@ -620,6 +657,26 @@ pub fn contact(
                     radius: r_lo + dr * (j as f64 + 0.5),
                     width: dr,
                     face: side,
+                    flank: false,
+                };
+                nc += 1;
+            }
+        }
+    }
+    for side in [1.0f64, -1.0] {
+        if let Some((s_lo, s_hi)) = flank_below(disc, side, z_top) {
+            let (sn, _) = disc.flank_normal();
+            let nb = (((s_hi - s_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_FLANK_BANDS);
+            let ds = (s_hi - s_lo) / nb as f64;
+            for j in 0..nb {
+                let s = s_lo + ds * (j as f64 + 0.5);
+                let y = side * (h + s * sn);
+                circles[nc] = Circle {
+                    y,
+                    radius: disc.rho_full(y),
+                    width: ds,
+                    face: side,
+                    flank: true,
                 };
                 nc += 1;
             }
@@ -632,7 +689,8 @@ pub fn contact(
     // rings, exactly: the whole-arc part weighs 1 - moving = 0 and no ring has
     // a driving part (normal velocity side v_y + r (w_z sin + w_x cos) <= eps
     // for every r <= rho(T/2)). They are not walked then, unless the rim
-    // touches nothing (the disc is in contact if a ring touches).
+    // touches nothing (the disc is in contact if a ring touches). Flank
+    // bands are cones, which a rolling disc does drive into: always walked.
     let rings_idle = {
         let side = -axle_z.signum();
         motion.moving >= 1.0
@@ -640,10 +698,10 @@ pub fn contact(
     };
     // per circle, both sides: march first, then refine the ends of the arcs
     // on every side whose weight in the blend can matter
-    let mut walks = [[None::<Walk>; 2]; 101 + MAX_RINGS];
+    let mut walks = [[None::<Walk>; 2]; 101 + MAX_RINGS + 2 * MAX_FLANK_BANDS];
     let mut rim_touches = false;
     for (c, pair) in circles.iter().zip(walks.iter_mut()) {
-        if c.face != 0.0 && rings_idle && rim_touches {
+        if c.face != 0.0 && !c.flank && rings_idle && rim_touches {
             continue;
         }
         let Some((theta0, reach)) = disc.arc_below(c.y, c.radius, z_top) else {
@@ -693,7 +751,7 @@ pub fn contact(
     let mut gov: Option<(usize, f64)> = None;
     let mut arcs = [[None::<Arc>; 2]; 101];
     for (ci, c) in circles.iter().enumerate() {
-        if c.face != 0.0 && rings_idle {
+        if c.face != 0.0 && !c.flank && rings_idle {
             any |= walks[ci].iter().any(Option::is_some);
             continue;
         }
@@ -714,6 +772,8 @@ pub fn contact(
             }
             let e = if c.face == 0.0 {
                 Element::rim(disc, c.y, c.width, &motion)
+            } else if c.flank {
+                Element::flank(disc, c.y, c.width, &motion)
             } else {
                 Element::ring(disc, c.face, c.radius, c.width, &motion)
             };

@@ -243,7 +243,8 @@ impl Element {
     }
 
     /// Ring of radius `r` on the side face `y = side * T/2` (outward normal
-    /// `side * y`), for a band `dr` wide.
+    /// `side * y`), for a band `dr` wide; with flanks, on the hub face
+    /// `y = side * W/2`.
     pub fn ring(disc: &PosedDisc, side: f64, r: f64, dr: f64, m: &Motion) -> Self {
         let g = side * r * dr;
         let g2 = g * r;
@@ -260,8 +261,39 @@ impl Element {
             },
             vn: (side * m.w.z * r, side * m.w.x * r, side * m.v.y),
             vn_eps: m.vn_eps,
-            y: side * disc.half_width,
+            y: side * disc.hub_half_width,
             radius: r,
+        }
+    }
+
+    /// Circle of a flank (a cone about the axle) at axle coordinate `y`
+    /// (`T/2 < |y| < W/2`, side `sign(y)`), for a band `ds` wide along the
+    /// flank. The outward normal is `(N sin t, Ny, -N cos t)` with `N = sin f`
+    /// along the radius and `Ny = side cos f` along the axle (`f` the flank
+    /// angle), the element `rho dt ds`: the same densities as a rim slice's
+    /// (`N = cos a`, `Ny = sin a`, `ds = dy / cos a`) and a ring's (`N = 0`).
+    pub fn flank(disc: &PosedDisc, y: f64, ds: f64, m: &Motion) -> Self {
+        let rho = disc.rho_full(y);
+        let (sn, cn) = disc.flank_normal();
+        let (n, ny) = (sn, y.signum() * cn);
+        let g = rho * ds;
+        let lever = g * (y * n - rho * ny);
+        let kk = rho * ny - y * n;
+        Self {
+            force: Trig {
+                s: Vector3::new(-g * n, 0.0, 0.0),
+                c: Vector3::new(0.0, 0.0, g * n),
+                k: Vector3::new(0.0, -g * ny, 0.0),
+            },
+            moment: Trig {
+                s: Vector3::new(0.0, 0.0, lever),
+                c: Vector3::new(lever, 0.0, 0.0),
+                k: Vector3::zeros(),
+            },
+            vn: (m.v.x * n + m.w.z * kk, -m.v.z * n + m.w.x * kk, m.v.y * ny),
+            vn_eps: m.vn_eps,
+            y,
+            radius: rho,
         }
     }
 

@@ -251,6 +251,7 @@ mod tests {
             radius: 8.5 * M_PER_IN,
             tip_width: 0.5 * M_PER_IN,
             tip_radius: 0.5 * M_PER_IN,
+            ..CutterParams::default()
         };
         let csm = CsmParams {
             variant: CsmVariant::Ozdemir2,

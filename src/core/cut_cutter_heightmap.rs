@@ -162,7 +162,9 @@ fn sweep_nodes<M: Nodes>(
     let d = rt.column(2).into_owned();
     let horizontal = d.y.abs() < 1e-12;
     let step = rt.column(0) * g.dx;
-    let h = disc.half_width;
+    // the solid's half-width: the hub's with flanks (`rho_full` is the tip
+    // profile across the tip, bit for bit)
+    let h = disc.hub_half_width;
     // a row along which y_local is constant (axle horizontal, heading along
     // a grid axis) has one rim circle, whose lowest point bounds the cut
     let const_row = horizontal && step.y == 0.0;
@@ -174,7 +176,7 @@ fn sweep_nodes<M: Nodes>(
         let mut a =
             rt * nalgebra::Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);
         let floor = if const_row && a.y.abs() <= h {
-            disc.centre.z - disc.rho(a.y) + elastic_depth + CUT_TOLERANCE
+            disc.centre.z - disc.rho_full(a.y) + elastic_depth + CUT_TOLERANCE
         } else {
             f64::NEG_INFINITY
         };
@@ -192,7 +194,7 @@ fn sweep_nodes<M: Nodes>(
                 if q.y.abs() > h {
                     continue;
                 }
-                let rho = disc.rho(q.y);
+                let rho = disc.rho_full(q.y);
                 let b = q.x * d.x + q.z * d.z;
                 let disc2 = b * b - (q.x * q.x + q.z * q.z - rho * rho);
                 if disc2 < 0.0 {

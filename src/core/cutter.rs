@@ -8,6 +8,15 @@
 //! The solid `{ |y| <= T/2, sqrt(x^2 + z^2) <= rho(y) }` is convex (`rho` is
 //! concave), so a vertical line meets it in one segment; its lower end is
 //! where the rock under the cutter must be cut to.
+//!
+//! **Flanks** (`cutter.flankAngle` > 0, the real CCS ring section): past the
+//! tip's edges the section widens along straight flanks at the flank angle
+//! `f` from the mid-plane down to the hub width `W`, then ends in flat faces
+//! at `y = +-W/2`: `rho_full(y) = rho(T/2) - (|y| - T/2) / tan(f)` for
+//! `T/2 < |y| <= W/2`. The solid `{ |y| <= W/2, sqrt(x^2 + z^2) <=
+//! rho_full(y) }` stays convex as long as the flank is steeper than the tip
+//! profile at its edge (`CutterParams::check_flanks` rejects the rest).
+//! Flank angle 0 is the solid above, bit for bit.
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -19,8 +28,11 @@ use super::pose::Pose;
 pub enum Face {
     /// On the rim, at axle coordinate `y`.
     Rim { y: f64 },
-    /// On the side face `y = +T/2` (`+1`) or `y = -T/2` (`-1`).
+    /// On the side face `y = +T/2` (`+1`) or `y = -T/2` (`-1`); with flanks,
+    /// the hub face `y = +-W/2`.
     Side(i8),
+    /// On a flank, at axle coordinate `y` (`T/2 < |y| < W/2`).
+    Flank { y: f64 },
 }
 
 /// A posed disc: geometry plus the pose's rotation, ready for queries.
@@ -33,6 +45,11 @@ pub struct PosedDisc {
     pub rot: Matrix3<f64>,
     /// Disc centre, rock frame.
     pub centre: Vector3<f64>,
+    /// Half the hub width `W/2` with flanks, `half_width` without.
+    pub hub_half_width: f64,
+    /// `1 / tan(flank angle)`: how fast the flank's radius falls per unit of
+    /// axle coordinate (0 without flanks).
+    pub flank_cot: f64,
 }
 
 impl PosedDisc {
@@ -43,7 +60,46 @@ impl PosedDisc {
             tip_radius: c.tip_radius,
             rot: *pose.rotation().matrix(),
             centre: pose.position,
+            hub_half_width: if c.has_flanks() {
+                0.5 * c.hub_width
+            } else {
+                0.5 * c.tip_width
+            },
+            flank_cot: if c.has_flanks() {
+                1.0 / c.flank_angle.tan()
+            } else {
+                0.0
+            },
         }
+    }
+
+    /// Does the section have flanks?
+    #[inline]
+    pub fn has_flanks(&self) -> bool {
+        self.hub_half_width > self.half_width
+    }
+
+    /// Radius of the whole section at axle coordinate `y`, `|y| <= W/2`:
+    /// the tip profile [`rho`](Self::rho) across the tip, the flanks beyond.
+    #[inline]
+    pub fn rho_full(&self, y: f64) -> f64 {
+        let h = self.half_width;
+        let a = y.abs();
+        if a <= h {
+            self.rho(y)
+        } else {
+            self.rho(h) - (a - h) * self.flank_cot
+        }
+    }
+
+    /// `(sin f, cos f)` of the flank angle `f`: the flank's outward normal
+    /// on side `s` is `sin f` along the radius and `s cos f` along the axle.
+    #[inline]
+    pub fn flank_normal(&self) -> (f64, f64) {
+        let c = self.flank_cot;
+        // cot f = c: sin f = 1 / sqrt(1 + c^2), cos f = c sin f
+        let n = (1.0 + c * c).sqrt();
+        (1.0 / n, c / n)
     }
 
     /// Rim radius at axle coordinate `y` (eq. 38), `|y| <= T/2`.
@@ -89,6 +145,19 @@ impl PosedDisc {
                 }
             }
         }
+        if self.has_flanks() {
+            // the flanks are straight in the section: their lowest points
+            // are at the tip's edges (sampled above) or the hub's
+            for y in [-self.hub_half_width, self.hub_half_width] {
+                let rho = self.rho_full(y);
+                if let Some((t0, _)) = self.arc_below(y, rho, f64::MAX) {
+                    let p = self.to_world(&Vector3::new(rho * t0.sin(), y, -rho * t0.cos()));
+                    if p.z < low.z {
+                        low = p;
+                    }
+                }
+            }
+        }
         low
     }
 
@@ -96,6 +165,9 @@ impl PosedDisc {
     /// rock frame: its height and the face it lies on; `None` when the line
     /// misses the disc.
     pub fn lower_boundary(&self, x: f64, y: f64) -> Option<(f64, Face)> {
+        if self.has_flanks() {
+            return self.lower_boundary_flanked(x, y);
+        }
         self.lower_boundary_below(x, y, f64::INFINITY)
     }
 
@@ -121,6 +193,11 @@ impl PosedDisc {
         cap: f64,
     ) -> Option<(f64, Face)> {
         let (a, d) = (*a, *d);
+        if self.has_flanks() {
+            return self
+                .column_lower_end_flanked(a, d)
+                .filter(|&(t, _)| t < cap);
+        }
         let h = self.half_width;
         if d.y.abs() < 1e-12 {
             // axle horizontal: the line stays in the plane y_local = a.y
@@ -227,11 +304,119 @@ impl PosedDisc {
         Some((inn, Face::Rim { y: qy }))
     }
 
+    /// [`lower_boundary`](Self::lower_boundary) of the flanked solid: the
+    /// same solve with the slab `|y| <= W/2` and the piecewise `rho_full`
+    /// (concave, so `g` stays convex and Newton from the slab's entry still
+    /// climbs monotonically to the first root; at the tip/flank seam either
+    /// one-sided slope is a subgradient, which keeps that property).
+    fn lower_boundary_flanked(&self, x: f64, y: f64) -> Option<(f64, Face)> {
+        let rt = self.rot.transpose();
+        let a = rt * Vector3::new(x - self.centre.x, y - self.centre.y, -self.centre.z);
+        self.column_lower_end_flanked(a, rt.column(2).into_owned())
+    }
+
+    /// [`lower_boundary_flanked`](Self::lower_boundary_flanked) for the
+    /// line `q(t) = a + t d` of the cutter frame.
+    fn column_lower_end_flanked(&self, a: Vector3<f64>, d: Vector3<f64>) -> Option<(f64, Face)> {
+        let (h, hw) = (self.half_width, self.hub_half_width);
+        let face_at = |qy: f64| {
+            if qy.abs() <= h {
+                Face::Rim { y: qy }
+            } else {
+                Face::Flank { y: qy }
+            }
+        };
+        if d.y.abs() < 1e-12 {
+            if a.y.abs() > hw {
+                return None;
+            }
+            let rho = self.rho_full(a.y);
+            let b = a.x * d.x + a.z * d.z;
+            let c = a.x * a.x + a.z * a.z - rho * rho;
+            let dd = b * b - c;
+            if dd < 0.0 {
+                return None;
+            }
+            return Some((-b - dd.sqrt(), face_at(a.y)));
+        }
+        let (mut t1, mut t2) = ((-hw - a.y) / d.y, (hw - a.y) / d.y);
+        if t1 > t2 {
+            std::mem::swap(&mut t1, &mut t2);
+        }
+        // the line enters the radius-R cylinder at t_r: below it, it is
+        // outside the solid, and Newton may start there
+        let (ca, cb) = (d.x * d.x + d.z * d.z, a.x * d.x + a.z * d.z);
+        let cc = a.x * a.x + a.z * a.z - self.radius * self.radius;
+        let mut t_r = f64::NEG_INFINITY;
+        if ca > 0.0 {
+            let disc2 = cb * cb - ca * cc;
+            if disc2 < 0.0 {
+                return None;
+            }
+            let (lo, hi) = ((-cb - disc2.sqrt()) / ca, (-cb + disc2.sqrt()) / ca);
+            if hi < t1 || lo > t2 {
+                return None;
+            }
+            t_r = lo;
+        } else if cc > 0.0 {
+            return None;
+        }
+        let g = |t: f64| {
+            let q = a + d * t;
+            (q.x * q.x + q.z * q.z).sqrt() - self.rho_full(q.y.clamp(-hw, hw))
+        };
+        if g(t1) <= 0.0 {
+            let qy = a.y + d.y * t1;
+            return Some((t1, Face::Side(if qy > 0.0 { 1 } else { -1 })));
+        }
+        let r = self.tip_radius;
+        let dg = |t: f64| {
+            let q = a + d * t;
+            let m = (q.x * q.x + q.z * q.z).sqrt().max(1e-300);
+            let y = q.y.clamp(-hw, hw);
+            // d rho_full / dy: the tip profile's slope, or the flank's
+            let drho = if y.abs() <= h {
+                -y / (r * r - y * y).max(1e-300).sqrt()
+            } else {
+                -y.signum() * self.flank_cot
+            };
+            (q.x * d.x + q.z * d.z) / m - drho * d.y
+        };
+        let mut t = t1.max(t_r);
+        let mut gt = g(t);
+        let mut inn = f64::NAN;
+        for _ in 0..60 {
+            let slope = dg(t);
+            if slope >= 0.0 {
+                return None;
+            }
+            let next = t - gt / slope;
+            if next > t2 {
+                return None;
+            }
+            let gn = g(next);
+            if gn <= 1e-13 || next - t < 1e-13 {
+                inn = next;
+                break;
+            }
+            t = next;
+            gt = gn;
+        }
+        if !inn.is_finite() {
+            return None;
+        }
+        let qy = (a.y + d.y * inn).clamp(-hw, hw);
+        Some((inn, face_at(qy)))
+    }
+
     /// Bounding box (rock frame, `[x_lo, x_hi, y_lo, y_hi]`) of the part of the
     /// solid below height `z_top`, or `None` when the whole disc is above it.
     pub fn footprint_below(&self, z_top: f64) -> Option<[f64; 4]> {
         // padding for rounding
         const PAD: f64 = 1e-9;
+        if self.has_flanks() {
+            return self.footprint_flanked(z_top);
+        }
         let rho = self.radius;
         let axle = self.rot.column(1).into_owned();
         if axle.z.abs() > 1e-12 {
@@ -263,6 +448,77 @@ impl PosedDisc {
             a[1].max(b[1]) + PAD,
             a[2].min(b[2]) - PAD,
             a[3].max(b[3]) + PAD,
+        ])
+    }
+
+    /// [`footprint_below`](Self::footprint_below) of the flanked solid: the
+    /// union of the boxes of its pieces, the tip slab (`|y| <= T/2`, radius
+    /// at most `R`) and each flank cut into slabs of axle coordinate, each
+    /// within the radius of its inner end (the flank narrows outwards). A
+    /// slab `[y0, y1]` of radius at most `rho` lies, as in the plain case, in
+    /// its lower end cap's radius-`rho` disc swept along the slab (tilted
+    /// axle) or in the hull of its two end caps' arcs (horizontal axle). Thin
+    /// slabs keep the box near the flank itself, where one slab for the whole
+    /// solid would sweep the tip's radius `R` out to the hub.
+    fn footprint_flanked(&self, z_top: f64) -> Option<[f64; 4]> {
+        const PAD: f64 = 1e-9;
+        let (h, hw) = (self.half_width, self.hub_half_width);
+        let mut bb = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let mut any = false;
+        let mut add = |b: Option<[f64; 4]>| {
+            if let Some(b) = b {
+                any = true;
+                bb = [
+                    bb[0].min(b[0]),
+                    bb[1].max(b[1]),
+                    bb[2].min(b[2]),
+                    bb[3].max(b[3]),
+                ];
+            }
+        };
+        add(self.slab_box(-h, h, self.radius, z_top));
+        // slabs that over-reach the flank's radius by at most 1 mm (32 at most)
+        let n = ((hw - h) * self.flank_cot / 1e-3).ceil().clamp(1.0, 32.0) as usize;
+        let dy = (hw - h) / n as f64;
+        for k in 0..n {
+            let (y0, y1) = (h + dy * k as f64, h + dy * (k + 1) as f64);
+            let rho = self.rho_full(y0);
+            add(self.slab_box(y0, y1, rho, z_top));
+            add(self.slab_box(-y1, -y0, rho, z_top));
+        }
+        any.then_some([bb[0] - PAD, bb[1] + PAD, bb[2] - PAD, bb[3] + PAD])
+    }
+
+    /// Box of the part below `z_top` of the slab `y0 <= y <= y1` of the
+    /// radius-`rho` cylinder about the axle (see [`footprint_flanked`](Self::footprint_flanked)).
+    fn slab_box(&self, y0: f64, y1: f64, rho: f64, z_top: f64) -> Option<[f64; 4]> {
+        let axle = self.rot.column(1).into_owned();
+        if axle.z.abs() > 1e-12 {
+            let (low, sweep) = if axle.z > 0.0 {
+                (y0, axle * (y1 - y0))
+            } else {
+                (y1, -axle * (y1 - y0))
+            };
+            let bb = self.arc_box(low, rho, z_top)?;
+            return Some([
+                bb[0] + sweep.x.min(0.0),
+                bb[1] + sweep.x.max(0.0),
+                bb[2] + sweep.y.min(0.0),
+                bb[3] + sweep.y.max(0.0),
+            ]);
+        }
+        let a = self.arc_box(y0, rho, z_top)?;
+        let b = self.arc_box(y1, rho, z_top)?;
+        Some([
+            a[0].min(b[0]),
+            a[1].max(b[1]),
+            a[2].min(b[2]),
+            a[3].max(b[3]),
         ])
     }
 

@@ -178,6 +178,7 @@ impl Ctx<'_> {
             radius: get("radius", &RADIUS, base.map(|b| b.radius))?,
             tip_width: get("tipWidth", &TIP, base.map(|b| b.tip_width))?,
             tip_radius: get("tipRadius", &TIP, base.map(|b| b.tip_radius))?,
+            ..CutterParams::default()
         };
         if c.tip_width > 2.0 * c.tip_radius {
             return Err(self.err(

@@ -14,6 +14,14 @@ pub struct CutterParams {
     pub tip_width: f64,
     /// Tip profile radius `r` \[m\] (`cutter.tipRadius`): `R(y) = R - r + sqrt(r^2 - y^2)`.
     pub tip_radius: f64,
+    /// Flank angle \[rad\] (`cutter.flankAngle`): the real CCS ring section.
+    /// Past the tip's edges (`y = +-T/2`) the section widens along straight
+    /// flanks that make this angle with the disc's mid-plane, down to the hub
+    /// width; 0 (the default, the thesis) is the flat side faces at `+-T/2`.
+    pub flank_angle: f64,
+    /// Hub width `W` \[m\] (`cutter.hubWidth`): where the flanks end in flat
+    /// faces at `y = +-W/2` (only with `flank_angle > 0`).
+    pub hub_width: f64,
 }
 
 /// Which base-pressure law gives `P'` (`csm.variant`).
@@ -148,6 +156,8 @@ impl Default for CutterParams {
             radius: 0.2159,
             tip_width: 0.013,
             tip_radius: 0.0127,
+            flank_angle: 0.0,
+            hub_width: HUB_WIDTH_DEFAULT,
         }
     }
 }
@@ -209,6 +219,74 @@ impl Default for Numerics {
     }
 }
 
+/// Default hub width \[m\]: the ring width of a 17 in CCS disc at its
+/// hub (docs/flanks.md says where the number comes from). It only acts once
+/// `cutter.flankAngle > 0`.
+pub const HUB_WIDTH_DEFAULT: f64 = 0.0762;
+
+impl CutterParams {
+    /// Does the section have flanks (`flank_angle > 0` and `W > T`)?
+    pub fn has_flanks(&self) -> bool {
+        self.flank_angle > 0.0 && self.hub_width > self.tip_width
+    }
+
+    /// Largest flank angle that keeps the solid convex: the flank must be
+    /// steeper (nearer the mid-plane) than the tip profile at its edge,
+    /// whose normal leans `asin(T / 2r)` off the radius, so the angle may not
+    /// exceed `pi/2 - asin(T / 2r)` (59.2 deg for the thesis's disc).
+    pub fn max_flank_angle(&self) -> f64 {
+        std::f64::consts::FRAC_PI_2
+            - (0.5 * self.tip_width / self.tip_radius)
+                .clamp(-1.0, 1.0)
+                .asin()
+    }
+
+    /// The rules of the flanked section (beyond the bounds): with flanks on,
+    /// the hub is at least as wide as the tip, the flank no shallower than
+    /// the tip's edge (a shallower one would make the section non-convex:
+    /// that case is rejected rather than silently hulled), and the flank
+    /// reaches the hub width before the axle.
+    pub fn check_flanks(&self) -> Result<()> {
+        if self.flank_angle == 0.0 {
+            return Ok(());
+        }
+        if self.hub_width < self.tip_width {
+            return Err(KerfError::BadParameter {
+                name: "cutter.hubWidth",
+                value: self.hub_width,
+                why: "must be at least cutter.tipWidth when cutter.flankAngle > 0".into(),
+            });
+        }
+        let max = self.max_flank_angle();
+        if self.flank_angle > max {
+            return Err(KerfError::BadParameter {
+                name: "cutter.flankAngle",
+                value: self.flank_angle,
+                why: format!(
+                    "must not exceed pi/2 - asin(tipWidth / (2 tipRadius)) = {max} rad: a flank shallower than the tip profile's edge makes the disc's section non-convex"
+                )
+                .into(),
+            });
+        }
+        let h = 0.5 * self.tip_width;
+        let r = self.tip_radius;
+        let rho_edge = self.radius - r + (r * r - h * h).max(0.0).sqrt();
+        let drop = (0.5 * self.hub_width - h) / self.flank_angle.tan();
+        if drop >= rho_edge {
+            return Err(KerfError::BadParameter {
+                name: "cutter.hubWidth",
+                value: self.hub_width,
+                why: format!(
+                    "the flanks at cutter.flankAngle = {} rad would reach the axle before widening to the hub: (hubWidth - tipWidth)/2 / tan(flankAngle) = {drop} m must stay below the tip's edge radius {rho_edge} m",
+                    self.flank_angle
+                )
+                .into(),
+            });
+        }
+        Ok(())
+    }
+}
+
 #[path = "bounds.rs"]
 mod bounds_table;
 pub use bounds_table::*;
@@ -257,6 +335,8 @@ impl Params {
             ("cutter.radius", c.radius),
             ("cutter.tipWidth", c.tip_width),
             ("cutter.tipRadius", c.tip_radius),
+            ("cutter.flankAngle", c.flank_angle),
+            ("cutter.hubWidth", c.hub_width),
             ("rock.ucs", s.ucs),
             ("rock.bts", s.bts),
             ("csm.C", s.c),
@@ -297,6 +377,7 @@ impl Params {
                 why: "must be smaller than cutter.radius".into(),
             });
         }
+        c.check_flanks()?;
         if n.tip_slices.is_multiple_of(2) {
             return Err(KerfError::BadParameter {
                 name: "numerics.tipSlices",

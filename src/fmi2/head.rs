@@ -64,6 +64,9 @@ impl HeadValues {
                     radius: p[5],
                     tip_width: p[6],
                     tip_radius: p[7],
+                    // the flanks are shared by every disc of the head
+                    flank_angle: self.kerf.real(super::md::vr::CUTTER_FLANK_ANGLE),
+                    hub_width: self.kerf.real(super::md::vr::CUTTER_HUB_WIDTH),
                 },
             })
             .collect()

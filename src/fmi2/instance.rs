@@ -206,7 +206,7 @@ impl Values {
         }
     }
 
-    fn real(&self, r: u32) -> f64 {
+    pub(super) fn real(&self, r: u32) -> f64 {
         self.real[md::position(md::REALS, r, |v| v.vr).expect("generated value reference")]
     }
 
@@ -260,6 +260,8 @@ impl Values {
                 radius: self.real(vr::CUTTER_RADIUS),
                 tip_width: self.real(vr::CUTTER_TIP_WIDTH),
                 tip_radius: self.real(vr::CUTTER_TIP_RADIUS),
+                flank_angle: self.real(vr::CUTTER_FLANK_ANGLE),
+                hub_width: self.real(vr::CUTTER_HUB_WIDTH),
             },
             csm: CsmParams {
                 ucs: self.real(vr::ROCK_UCS),

@@ -194,14 +194,13 @@ def scene_plots(summary, fig_axes):
     for k, (cname, col) in enumerate(zip(comps, ["tab:blue", "tab:green", "tab:red"])):
         v = [abs(d["cells"].get(1.0, {}).get("err_force", [0, 0, 0])[k]) * 100 for d in summary]
         ax_e.barh(y + (k - 1) * 0.27, v, 0.27, label=cname, color=col)
-    v = [abs(d["oracle"]["err"][0]) * 100 if d.get("oracle") else 0 for d in summary]
     ax_e.plot([max(abs(x) for x in d["oracle"]["err"]) * 100 if d.get("oracle") else np.nan for d in summary],
               y, "kx", label="fast − oracle, worst comp.")
     ax_e.axvline(2.0, color="k", ls="--", lw=1, label="issue: 2 % at 1 mm")
     ax_e.set_yticks(y)
     ax_e.set_yticklabels(names, fontsize=8)
     ax_e.invert_yaxis()
-    ax_e.set_xlabel("|1 mm − 0.25 mm| per component, % of the fresh cut's F_N")
+    ax_e.set_xlabel(f"|1 mm − {summary[0]['ref_cell_mm']:g} mm| per component, % of the fresh cut's F_N")
     ax_e.set_title("error per scene and component (1 mm cells)", fontsize=11)
     ax_e.legend(fontsize=8)
     ax_e.grid(True, axis="x", alpha=0.3)
@@ -224,7 +223,7 @@ def scene_markdown(summary, data, L):
         "fresh lap**: one lap of an r-radius track on fresh rock.\n"
     )
     L.append(
-        f"Forces at the default 1 mm cells, and the error of each component against the same "
+        f"Forces (the FMU's outputs, friction included) at the default 1 mm cells, and the error of each component against the same "
         f"scene at {ref_cell:g} mm cells (the converged reference), in % of the fresh cut's "
         f"normal force F_N = {fn / 1e3:.1f} kN (CSM closed form; moments in % of F_N·R = "
         f"{fn * R_DISC / 1e3:.2f} kN·m). The errors are signed (1 mm minus reference); no column "
@@ -232,10 +231,10 @@ def scene_markdown(summary, data, L):
         "out) of the fast contact minus the brute-force oracle's (`Model::contact_brute`, "
         "0.05 mm arc steps, 101 slices) at one pose inside the window, same 1 mm map, % of F_N.\n"
     )
-    coarse = sorted(c for c in summary[0]["cells"] if c != 1.0 and c != ref_cell)
+    coarse = sorted((c for c in summary[0]["cells"] if c != 1.0 and c != ref_cell), reverse=True)
     hdr = ("| scene | F_N | F_R | F_S [kN] | ΔF_N | ΔF_R | ΔF_S | ΔM_x | ΔM_y | ΔM_z [%] | "
-           + " | ".join(f"worst @{c:g} mm" for c in coarse)
-           + " | fast − oracle N / R / S [%] | W/V ÷ fresh |")
+           + "".join(f"worst @{c:g} mm | " for c in coarse)
+           + "fast − oracle N / R / S [%] | W/V ÷ fresh |")
     L.append(hdr)
     L.append("|" + "---|" * (hdr.count("|") - 1))
     for d in summary:
@@ -326,8 +325,8 @@ def scene_markdown(summary, data, L):
         hf = st["cost"]["host_mean_force_kN"]
         L.append(
             f"FMI layer on the straight cut: the host's whole step costs {ov:+.1f} µs against "
-            f"the core's ({100 * ov / st['cost']['core_us']:+.0f} %; the FMU's fmi2DoStep "
-            "evaluates at both ends of the step, the core's loop once). Mean forces the host "
+            f"the core's ({100 * ov / st['cost']['core_us']:+.0f} %; the two run in different "
+            "processes a moment apart, so a few µs either way is noise). Mean forces the host "
             f"sees over the window: F_N {hf[0]:.2f}, F_R {hf[1]:.2f}, F_S {hf[2]:.2f} kN "
             f"(core at 1 mm: {st['cells'][1.0]['force_kN'][0]:.2f}, "
             f"{st['cells'][1.0]['force_kN'][1]:.2f}, {st['cells'][1.0]['force_kN'][2]:.2f}).\n"
@@ -355,8 +354,9 @@ def main():
         ("tilted 30° vs converged run (cost of the tilted cut)", lambda r: r["err_tilt"]),
         ("cut 10 mm beside a groove vs converged run", lambda r: r["err_groove"]),
     ]
-    fig, axes_all = plt.subplots(3, 2, figsize=(13, 15), gridspec_kw={"height_ratios": [1, 1, 0.9]})
-    axes = axes_all[:2]
+    fig = plt.figure(figsize=(13, 16))
+    top, bottom = fig.subfigures(2, 1, height_ratios=[2.15, 1])
+    axes = top.subplots(2, 2)
     def short(r):
         if r["model"] == "baseline":
             t = f"{r['n_alpha']}x{r['n_y']}"
@@ -428,15 +428,16 @@ def main():
         Line2D([], [], marker="s", color="tab:red", ls="", label="thesis-faithful baseline"),
         Line2D([], [], color="k", ls="--", label="Pareto front, 1 mm steps (labelled)"),
     ]
-    fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.37), ncol=6, fontsize=9)
+    top.legend(handles=handles, loc="lower center", ncol=3, fontsize=9)
     if summary:
-        scene_plots(summary, axes_all[2])
-    fig.suptitle(
+        scene_plots(summary, bottom.subplots(1, 2))
+    top.suptitle(
         "kerf: error against cost per evaluation (reference scene R 0.2159 m, p 3.8 mm, 1 m/s; "
         "face 0.8 m x 0.2 m)",
         fontsize=12,
     )
-    fig.tight_layout(rect=(0, 0, 1, 0.97), h_pad=4)
+    top.subplots_adjust(left=0.08, right=0.97, top=0.93, bottom=0.12, hspace=0.3, wspace=0.25)
+    bottom.subplots_adjust(left=0.17, right=0.97, top=0.9, bottom=0.14, wspace=0.45)
     fig.savefig(docs / "speed-vs-error.png", dpi=110)
     plt.close(fig)
 
@@ -538,7 +539,10 @@ def main():
         "difference of one cutter-frame force component (normal, rolling, side) over the CSM "
         "normal force, the components averaged over "
         "x in [0.08, 0.18] m, against a converged run of the same scene (0.25 mm cells, "
-        "17 tip slices, arc step 1 cell, sweep step 0.5 mm). **tilted µs/mm**: the cost of the tilted scene, median of one run.\n"
+        "17 tip slices, arc step 1 cell, sweep step 0.5 mm). **tilted µs/mm**: the cost of the tilted scene, median of one run. "
+        "These two scenes are older than `kerf::scenes` (another face, window and reference, "
+        "and they also run the baseline and other step lengths): they rank the numerical "
+        "settings; the scene tables above give each scene's figures.\n"
         "* **µs/mm**: wall time of one `advance` plus one `evaluate`, per mm of travel (one "
         "evaluation at the default 1 mm step), over the flat window's steps of all repeats: "
         "median [interquartile range]. **µs/call**: the same per call (differs for other step "

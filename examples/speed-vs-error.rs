@@ -1,10 +1,24 @@
-//! Speed against error for every numerical setting of the core, and the
+//! Speed against error: every scene a cutterhead makes, per force
+//! component, and every numerical setting of the core against the
 //! thesis-faithful baseline. Run by `scripts/speed-vs-error`, which turns the
 //! JSON this writes into `docs/speed-vs-error.md` and its plots.
 //!
 //! `cargo run --release --example speed-vs-error -- [--out FILE] [--reps N] [--quick]`
+//! writes the rows; three more modes serve the script:
+//! * `--scene-costs`: one timing round, every scene once at 1 mm, one JSON
+//!   line each (median µs of a step in the window);
+//! * `--host-scenes DIR`: the scenes' passes as replay files for the bare C
+//!   host (`host/kerf_host.c`), which drives them through the FMU;
+//! * `--scenes-only`: the scene rows alone, printed.
 //!
-//! Scenes (reference cutter and rock of thesis Table 2, 1 m/s, wy = v/R):
+//! **Scenes** (`kerf::scenes`, defined once there, shared with the tests):
+//! the fresh straight cut, tilted 10/30/60°, a pass 2/4/8 mm beside a 3.8 mm
+//! groove, curved tracks of 0.2 and 0.5 m (fresh lap and re-roll), the
+//! straight re-roll; at 2, 1, 0.5 and 0.25 mm cells (the last the converged
+//! reference; `--quick`: 1 and 0.5 mm), with the fast contact against the
+//! brute-force oracle at a pose inside the window.
+//!
+//! **Settings** (reference cutter and rock of thesis Table 2, 1 m/s, wy = v/R):
 //! * flat: a 0.3 m cut at p = 3.8 mm along y = 0 of a flat 0.8 m x 0.2 m
 //!   face, outputs averaged over the steady middle x in [0.1, 0.25] m, against
 //!   the CSM closed form and the analytic groove;
@@ -14,7 +28,8 @@
 //!   each, window [0.08, 0.18] m);
 //!
 //! tilt and groove against a converged run (0.25 mm cells, 17 slices, arc
-//! step 1 cell, sweep step 0.5 mm). Times are wall-clock microseconds of one
+//! step 1 cell, sweep step 0.5 mm), as the largest component difference over
+//! the CSM normal force. Times are wall-clock microseconds of one
 //! `advance` plus one `evaluate`, per millimetre of travel, over the window
 //! of the flat scene, for `reps` rounds that run every row once (so load
 //! from other processes falls on all rows alike): median and quartiles.

@@ -1,10 +1,24 @@
-//! Speed against error for every numerical setting of the core, and the
+//! Speed against error: every scene a cutterhead makes, per force
+//! component, and every numerical setting of the core against the
 //! thesis-faithful baseline. Run by `scripts/speed-vs-error`, which turns the
 //! JSON this writes into `docs/speed-vs-error.md` and its plots.
 //!
 //! `cargo run --release --example speed-vs-error -- [--out FILE] [--reps N] [--quick]`
+//! writes the rows; three more modes serve the script:
+//! * `--scene-costs`: one timing round, every scene once at 1 mm, one JSON
+//!   line each (median µs of a step in the window);
+//! * `--host-scenes DIR`: the scenes' passes as replay files for the bare C
+//!   host (`host/kerf_host.c`), which drives them through the FMU;
+//! * `--scenes-only`: the scene rows alone, printed.
 //!
-//! Scenes (reference cutter and rock of thesis Table 2, 1 m/s, wy = v/R):
+//! **Scenes** (`kerf::scenes`, defined once there, shared with the tests):
+//! the fresh straight cut, tilted 10/30/60°, a pass 2/4/8 mm beside a 3.8 mm
+//! groove, curved tracks of 0.2 and 0.5 m (fresh lap and re-roll), the
+//! straight re-roll; at 2, 1, 0.5 and 0.25 mm cells (the last the converged
+//! reference; `--quick`: 1 and 0.5 mm), with the fast contact against the
+//! brute-force oracle at a pose inside the window.
+//!
+//! **Settings** (reference cutter and rock of thesis Table 2, 1 m/s, wy = v/R):
 //! * flat: a 0.3 m cut at p = 3.8 mm along y = 0 of a flat 0.8 m x 0.2 m
 //!   face, outputs averaged over the steady middle x in [0.1, 0.25] m, against
 //!   the CSM closed form and the analytic groove;
@@ -14,7 +28,8 @@
 //!   each, window [0.08, 0.18] m);
 //!
 //! tilt and groove against a converged run (0.25 mm cells, 17 slices, arc
-//! step 1 cell, sweep step 0.5 mm). Times are wall-clock microseconds of one
+//! step 1 cell, sweep step 0.5 mm), as the largest component difference over
+//! the CSM normal force. Times are wall-clock microseconds of one
 //! `advance` plus one `evaluate`, per millimetre of travel, over the window
 //! of the flat scene, for `reps` rounds that run every row once (so load
 //! from other processes falls on all rows alike): median and quartiles.
@@ -23,9 +38,14 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use kerf::core::baseline::{BaselineModel, BaselineResolution};
+use kerf::core::contact_bruteforce::Resolution;
 use kerf::core::cutter::PosedDisc;
 use kerf::core::{Model, Outputs, Params, Pose, Twist};
+use kerf::scenes::{
+    beside_plan, cutting_force, fresh_plan, lap_plan, rolled, Mean, Plan, Track, P_REF, WINDOW,
+};
 use nalgebra::Vector3;
+use serde_json::{json, Value};
 
 const R: f64 = 0.2159;
 const P: f64 = 3.8e-3;
@@ -271,9 +291,10 @@ fn quantile(v: &mut [f64], q: f64) -> f64 {
     }
 }
 
-fn vec_err(a: [f64; 3], b: [f64; 3]) -> f64 {
-    let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
-    d / (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt()
+/// Largest component difference (normal, rolling, side) over the fresh
+/// cut's normal force (CSM closed form): no norm that one component rules.
+fn comp_err(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max) / csm().0
 }
 
 /// Median, quartiles, min and max of per-step times of `steps` steps of the
@@ -314,22 +335,164 @@ fn face_cost(w: f64, steps: usize, base: Option<BaselineResolution>, reps: usize
     ]
 }
 
-/// The C host's scene on the core: default parameters (1.5 m x 0.2 m face,
-/// 1 mm cells), 1000 steps of 1 ms; median and quartiles \[us\].
-fn core_scene(reps: usize) -> [f64; 3] {
-    let mut ts = Vec::new();
-    for _ in 0..reps {
-        let mut m = Model::new(Params::default()).unwrap();
-        let tw = rolling_twist();
-        let mut pose = start_pose(0.0, 0.0);
-        for _ in 0..1000 {
-            let t = Instant::now();
-            pose = m.advance(&pose, &tw, 1e-3).unwrap();
-            m.evaluate(&pose, &tw).unwrap();
-            ts.push(t.elapsed().as_secs_f64() * 1e6);
-        }
+// ---------------------------------------------------------------- scenes
+//
+// The scenes a cutterhead makes (issue 7), exactly as `kerf::scenes` defines
+// them: each at the default 1 mm cells, and at 0.5 and 0.25 mm (the
+// converged reference); the fast contact against the brute-force oracle at
+// a pose inside the window; and their cost, from the core here and from the
+// bare C host, which replays the same passes through the FMU.
+
+type PlanAt = Box<dyn Fn(f64) -> Plan>;
+
+/// Name, kind and plan (at a cell size \[m\]) of every scene of the report.
+fn scene_defs() -> Vec<(String, &'static str, PlanAt)> {
+    let mut v: Vec<(String, &'static str, PlanAt)> = vec![(
+        "fresh straight".into(),
+        "fresh",
+        Box::new(|c| fresh_plan(c, P_REF, 0.0)),
+    )];
+    for g in [10.0f64, 30.0, 60.0] {
+        v.push((
+            format!("tilted {g}°"),
+            "tilted",
+            Box::new(move |c| fresh_plan(c, P_REF, g.to_radians())),
+        ));
     }
-    [0.5, 0.25, 0.75].map(|q| quantile(&mut ts, q))
+    for d in [2.0f64, 4.0, 8.0] {
+        v.push((
+            format!("beside groove, d = {d} mm"),
+            "partial",
+            Box::new(move |c| beside_plan(c, P_REF, d * 1e-3)),
+        ));
+    }
+    v.push((
+        "re-roll straight".into(),
+        "reroll",
+        Box::new(|c| beside_plan(c, P_REF, 0.0)),
+    ));
+    for r in [0.2f64, 0.5] {
+        v.push((
+            format!("curved r = {r} m, fresh lap"),
+            "curved",
+            Box::new(move |c| lap_plan(c, P_REF, r, false)),
+        ));
+        v.push((
+            format!("curved r = {r} m, re-roll"),
+            "reroll",
+            Box::new(move |c| lap_plan(c, P_REF, r, true)),
+        ));
+    }
+    v
+}
+
+fn mean_json(m: &Mean) -> Value {
+    json!({
+        "force": m.force, "moment": m.moment, "cutting": m.cutting,
+        "volume": m.volume, "length": m.length, "steps": m.steps,
+        "us_median": m.us_median,
+    })
+}
+
+/// Every scene at every cell size of `cells_mm`, and the oracle at 1 mm.
+fn scene_accuracy(cells_mm: &[f64], oracle: bool) -> Value {
+    let mut out = Vec::new();
+    for (name, kind, plan) in scene_defs() {
+        let t = Instant::now();
+        let mut runs = serde_json::Map::new();
+        for &c in cells_mm {
+            runs.insert(format!("{c}"), mean_json(&plan(c * 1e-3).run()));
+        }
+        let mut row = json!({"scene": name, "kind": kind, "cells": runs});
+        if oracle {
+            // the model after the scene's passes, the measured one stopped
+            // at 0.1 m, inside the window
+            let p = plan(1e-3);
+            let n = p.passes.len();
+            let legs: Vec<(&dyn Track, f64)> = p
+                .passes
+                .iter()
+                .enumerate()
+                .map(|(i, (t, l))| (t.as_ref(), if i + 1 == n { 0.1 } else { *l }))
+                .collect();
+            let (m, pose, tw) = rolled(&p.prm, &legs);
+            let t0 = Instant::now();
+            let fast = cutting_force(&pose, &m.contact(&pose, &tw));
+            let us_fast = t0.elapsed().as_secs_f64() * 1e6;
+            let t0 = Instant::now();
+            let brute = cutting_force(&pose, &m.contact_brute(&pose, &tw, &Resolution::default()));
+            let ms_brute = t0.elapsed().as_secs_f64() * 1e3;
+            row["oracle"] =
+                json!({"fast": fast, "brute": brute, "us_fast": us_fast, "ms_brute": ms_brute});
+        }
+        eprintln!("  {name:<32} ({:.1} s)", t.elapsed().as_secs_f64());
+        out.push(row);
+    }
+    Value::Array(out)
+}
+
+/// One timing round: every scene once at 1 mm, one JSON line each (for
+/// scripts/speed-vs-error to interleave with the C host).
+fn scene_costs() {
+    let defs = scene_defs();
+    // warm-up, not recorded: the first run in a process pays for page faults
+    // and cold caches, and the first scene is the straight cut every ratio
+    // divides by
+    (defs[0].2)(1e-3).run();
+    for (name, _, plan) in defs {
+        let m = plan(1e-3).run();
+        println!(
+            "{}",
+            json!({"kind": "core", "scene": name, "us_median": m.us_median, "steps": m.steps})
+        );
+    }
+}
+
+/// Writes one replay file per scene (at 1 mm) for host/kerf_host.c: the
+/// face's parameters and, per 1 ms step, the inputs at its start; a step is
+/// timed when it ends inside the measured pass's window.
+fn host_scenes(dir: &str) {
+    std::fs::create_dir_all(dir).unwrap();
+    let h = 1e-3;
+    for (k, (name, _, plan)) in scene_defs().iter().enumerate() {
+        let p = plan(1e-3);
+        let r = &p.prm.rock;
+        let mut f = format!(
+            "# kerf::scenes replay for host/kerf_host.c (examples/speed-vs-error.rs)\nname {name}\n\
+param rock.xMin {:e}\nparam rock.xMax {:e}\nparam rock.yMin {:e}\nparam rock.yMax {:e}\n\
+param rock.nx {}\nparam rock.ny {}\n",
+            r.x_min, r.x_max, r.y_min, r.y_max, r.nx, r.ny
+        );
+        let n_pass = p.passes.len();
+        for (i, (t, len)) in p.passes.iter().enumerate() {
+            let n = (len / h).round() as usize;
+            for j in 0..n {
+                let s = j as f64 * h;
+                let (pose, tw) = (t.pose(s), t.twist(s));
+                let end = s + h;
+                let timed = i + 1 == n_pass && end >= WINDOW.0 - 1e-12 && end <= WINDOW.1 + 1e-12;
+                let (q, v, w) = (pose.position, tw.velocity, tw.omega);
+                let _ = writeln!(
+                    f,
+                    "step {} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e}",
+                    u8::from(timed),
+                    q.x,
+                    q.y,
+                    q.z,
+                    pose.yaw,
+                    pose.pitch,
+                    pose.roll,
+                    v.x,
+                    v.y,
+                    v.z,
+                    w.x,
+                    w.y,
+                    w.z
+                );
+            }
+        }
+        std::fs::write(format!("{dir}/{k:02}.scene"), f).unwrap();
+    }
 }
 
 fn json_num(x: f64) -> String {
@@ -350,13 +513,22 @@ fn main() {
     let out = get("--out").unwrap_or_else(|| "target/speed-vs-error/rows.json".into());
     let reps: usize = get("--reps").map_or(5, |s| s.parse().unwrap());
     let quick = args.iter().any(|a| a == "--quick");
-    if args.iter().any(|a| a == "--core-scene") {
-        // one line of JSON, for scripts/speed-vs-error to interleave with the C host
-        let q = core_scene(reps);
-        println!(
-            "{{\"us_median\": {:.3}, \"us_p25\": {:.3}, \"us_p75\": {:.3}}}",
-            q[0], q[1], q[2]
-        );
+    if args.iter().any(|a| a == "--scene-costs") {
+        scene_costs();
+        return;
+    }
+    if let Some(dir) = get("--host-scenes") {
+        host_scenes(&dir);
+        return;
+    }
+    if args.iter().any(|a| a == "--scenes-only") {
+        // the scene table alone (for a look without the settings sweep)
+        let cells: &[f64] = if quick {
+            &[1.0, 0.5]
+        } else {
+            &[2.0, 1.0, 0.5, 0.25]
+        };
+        println!("{}", scene_accuracy(cells, !quick));
         return;
     }
     let t_all = Instant::now();
@@ -510,8 +682,8 @@ fn main() {
         } else {
             let (ft, us_tilt) = tilt(s);
             (
-                vec_err(ft, ref_tilt),
-                vec_err(groove(s), ref_groove),
+                comp_err(ft, ref_tilt),
+                comp_err(groove(s), ref_groove),
                 us_tilt,
             )
         };
@@ -613,15 +785,21 @@ fn main() {
     }
     fj.push(']');
 
-    // the C host's scene, on the core
-    let fmu_scene = core_scene(reps);
-    eprintln!("core on the FMU scene: median {:.1} us", fmu_scene[0]);
+    // the cutterhead's scenes, per component, against the converged cells
+    // and the oracle
+    eprintln!("scenes ...");
+    let cells: &[f64] = if quick {
+        &[1.0, 0.5]
+    } else {
+        &[2.0, 1.0, 0.5, 0.25]
+    };
+    let scenes = scene_accuracy(cells, true);
 
     let (fnn, frr) = csm();
     let doc = format!(
         "{{\n\"csm\": {{\"normal\": {}, \"rolling\": {}, \"groove_area\": {}}},\n\"reps\": {reps},\n\
 \"reference\": {{\"tilt\": [{}, {}, {}], \"groove\": [{}, {}, {}]}},\n\
-\"core_fmu_scene\": {{\"us_median\": {}, \"us_p25\": {}, \"us_p75\": {}}},\n\
+\"scenes\": {scenes},\n\
 \"faces\": {fj},\n\"rows\": {rows},\n\"wall_s\": {:.1}\n}}\n",
         json_num(fnn),
         json_num(frr),
@@ -632,9 +810,6 @@ fn main() {
         json_num(ref_groove[0]),
         json_num(ref_groove[1]),
         json_num(ref_groove[2]),
-        json_num(fmu_scene[0]),
-        json_num(fmu_scene[1]),
-        json_num(fmu_scene[2]),
         t_all.elapsed().as_secs_f64()
     );
     if let Some(dir) = std::path::Path::new(&out).parent() {

@@ -1,23 +1,34 @@
 /*
- * kerf_host: a bare C host that measures the cost of the FMI 2.0 layer.
+ * kerf_host: a bare C host that measures the cost of kerf through FMI 2.0,
+ * scene by scene.
  *
  * It dlopens the kerf shared library (target/release/libkerf.so or the
  * binary inside kerf.fmu), finds the value references by reading
- * modelDescription.xml with a tiny parser, and drives the reference cut of
- * thesis Table 2 as Co-Simulation: 1000 fmi2DoStep of 1 ms at vx = 1 m/s,
- * wy = 1/R, the pose inputs set for each communication point. It prints one
- * JSON object: median and quartiles of the wall time of fmi2DoStep alone and
- * of a whole step (fmi2SetReal of the pose, fmi2DoStep, fmi2GetReal of the
- * forces), in microseconds, over `reps` runs.
+ * modelDescription.xml with a tiny parser, and replays scene files as
+ * Co-Simulation: for every row, fmi2SetReal of the 12 pose and velocity
+ * inputs, one fmi2DoStep of 1 ms, fmi2GetReal of the forces. The rows are a
+ * scene of `kerf::scenes` (a fresh cut, a tilted disc spinning about its own
+ * axle, a pass beside a groove, a lap of a curved track, ...), written by
+ * `examples/speed-vs-error.rs --host-scenes DIR`, so the host drives exactly
+ * the passes the core's report measures.
+ *
+ * For each scene it prints one JSON line: median and quartiles of the wall
+ * time of fmi2DoStep alone and of a whole step (fmi2SetReal + fmi2DoStep +
+ * fmi2GetReal) over the rows marked timed, in microseconds, over `reps`
+ * runs (each run replays every scene once, so load from other processes
+ * falls on all scenes alike), and the mean forces over those rows.
  *
  * Build (scripts/speed-vs-error does this):
  *   cc -O2 -std=c11 -o target/speed-vs-error/kerf_host host/kerf_host.c -ldl
  * Run:
- *   kerf_host [libkerf.so] [modelDescription.xml] [steps] [reps] [set|carry]
+ *   kerf_host LIB.so modelDescription.xml REPS SCENE_FILE...
  *
- * Mode `set` (default) sets the pose inputs x = v t for every communication
- * point, as a host driving the cutter from a multibody model does; `carry`
- * sets them once and lets the FMU carry its own end pose into the next step.
+ * Scene file, one item a line ('#' starts a comment line):
+ *   name TEXT                      the scene's name
+ *   param NAME VALUE               a Real or Integer parameter (type from the XML)
+ *   step TIMED x y z yaw pitch roll vx vy vz wx wy wz
+ *                                  one communication point: the inputs at t,
+ *                                  then fmi2DoStep(t, 1 ms); TIMED 1 or 0
  *
  * The few fmi2 types and prototypes are declared here (they match
  * fmi2TypesPlatform.h / fmi2FunctionTypes.h of the FMI 2.0 standard), so no
@@ -57,6 +68,8 @@ typedef fmi2Status (*Component_t)(fmi2Component);
 typedef void (*FreeInstance_t)(fmi2Component);
 typedef fmi2Status (*SetReal_t)(fmi2Component, const fmi2ValueReference *, size_t,
                                 const fmi2Real *);
+typedef fmi2Status (*SetInteger_t)(fmi2Component, const fmi2ValueReference *, size_t,
+                                   const fmi2Integer *);
 typedef fmi2Status (*GetReal_t)(fmi2Component, const fmi2ValueReference *, size_t, fmi2Real *);
 typedef fmi2Status (*DoStep_t)(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean);
 
@@ -119,8 +132,9 @@ static int attr_value(const char *tag, const char *end, const char *attr, char *
     return 0;
 }
 
-/* Value reference of the ScalarVariable called `name`. */
-static fmi2ValueReference vr_of(const char *xml, const char *name) {
+/* Value reference of the ScalarVariable called `name`; *is_int tells whether
+ * it is an Integer (else a Real, Boolean or Enumeration is not asked for). */
+static fmi2ValueReference var_of(const char *xml, const char *name, int *is_int) {
     const char *p = xml;
     char buf[256];
     while ((p = strstr(p, "<ScalarVariable")) != NULL) {
@@ -129,6 +143,11 @@ static fmi2ValueReference vr_of(const char *xml, const char *name) {
         if (attr_value(p, end, "name", buf, sizeof buf) && strcmp(buf, name) == 0) {
             if (!attr_value(p, end, "valueReference", buf, sizeof buf))
                 die("no valueReference for", name);
+            if (is_int) {
+                const char *close = strstr(end, "</ScalarVariable>");
+                const char *ip = strstr(end, "<Integer");
+                *is_int = ip && (!close || ip < close);
+            }
             return (fmi2ValueReference)strtoul(buf, NULL, 10);
         }
         p = end;
@@ -149,6 +168,7 @@ static int cmp_double(const void *a, const void *b) {
 }
 
 static double quantile(double *v, size_t n, double q) {
+    if (n == 0) return 0.0;
     qsort(v, n, sizeof *v, cmp_double);
     double x = q * (double)(n - 1);
     size_t i = (size_t)x;
@@ -156,29 +176,91 @@ static double quantile(double *v, size_t n, double q) {
     return i + 1 < n ? v[i] * (1 - f) + v[i + 1] * f : v[i];
 }
 
+enum { NIN = 12, NOUT = 3, MAXPAR = 16 };
+static const char *in_names[NIN] = {"x",  "y",  "z",  "yaw", "pitch", "roll",
+                                    "vx", "vy", "vz", "wx",  "wy",    "wz"};
+static const char *out_names[NOUT] = {"normalForce", "rollingForce", "sideForce"};
+
+typedef struct {
+    char name[128];
+    int npar;
+    fmi2ValueReference par_vr[MAXPAR];
+    int par_int[MAXPAR];
+    double par_val[MAXPAR];
+    size_t nrows, ntimed;
+    double *rows; /* nrows x NIN */
+    int *timed;
+    double *t_do, *t_all; /* ntimed x reps */
+    size_t k;
+    double sum[NOUT];
+} Scene;
+
+static void load_scene(Scene *sc, const char *path, const char *xml) {
+    char *text = read_file(path);
+    memset(sc, 0, sizeof *sc);
+    snprintf(sc->name, sizeof sc->name, "%s", path);
+    size_t cap = 1024;
+    sc->rows = malloc(cap * NIN * sizeof *sc->rows);
+    sc->timed = malloc(cap * sizeof *sc->timed);
+    for (char *line = strtok(text, "\n"); line; line = strtok(NULL, "\n")) {
+        if (strncmp(line, "name ", 5) == 0) {
+            snprintf(sc->name, sizeof sc->name, "%s", line + 5);
+        } else if (strncmp(line, "param ", 6) == 0) {
+            char pname[128];
+            double v;
+            if (sscanf(line + 6, "%127s %lf", pname, &v) != 2) die("bad param line in", path);
+            if (sc->npar == MAXPAR) die("too many params in", path);
+            sc->par_vr[sc->npar] = var_of(xml, pname, &sc->par_int[sc->npar]);
+            sc->par_val[sc->npar++] = v;
+        } else if (strncmp(line, "step ", 5) == 0) {
+            if (sc->nrows == cap) {
+                cap *= 2;
+                sc->rows = realloc(sc->rows, cap * NIN * sizeof *sc->rows);
+                sc->timed = realloc(sc->timed, cap * sizeof *sc->timed);
+                if (!sc->rows || !sc->timed) die("out of memory", NULL);
+            }
+            char *p = line + 5, *q;
+            sc->timed[sc->nrows] = (int)strtol(p, &q, 10);
+            for (int j = 0; j < NIN; j++) {
+                p = q;
+                sc->rows[sc->nrows * NIN + j] = strtod(p, &q);
+                if (q == p) die("bad step line in", path);
+            }
+            sc->ntimed += sc->timed[sc->nrows] != 0;
+            sc->nrows++;
+        } else if (line[0] != '#' && line[0] != 0) {
+            die("unknown line in", path);
+        }
+    }
+    if (sc->nrows == 0 || sc->ntimed == 0) die("no (timed) steps in", path);
+    free(text);
+}
+
 int main(int argc, char **argv) {
-    const char *lib_path = argc > 1 ? argv[1] : "target/release/libkerf.so";
-    const char *xml_path = argc > 2 ? argv[2] : "modelDescription/modelDescription.xml";
-    int steps = argc > 3 ? atoi(argv[3]) : 1000;
-    int reps = argc > 4 ? atoi(argv[4]) : 3;
-    const char *mode = argc > 5 ? argv[5] : "set";
-    int carry = strcmp(mode, "carry") == 0;
-    if (!carry && strcmp(mode, "set") != 0) die("mode must be set or carry", mode);
-    if (steps < 1 || reps < 1) die("steps and reps must be positive", NULL);
+    if (argc < 5) {
+        fprintf(stderr, "usage: kerf_host LIB.so modelDescription.xml REPS SCENE_FILE...\n");
+        return 2;
+    }
+    const char *lib_path = argv[1];
+    const char *xml_path = argv[2];
+    int reps = atoi(argv[3]);
+    if (reps < 1) die("reps must be positive", argv[3]);
+    int nsc = argc - 4;
 
     char *xml = read_file(xml_path);
     char guid[128];
     const char *md = strstr(xml, "<fmiModelDescription");
     if (!md || !attr_value(md, strchr(md, '>'), "guid", guid, sizeof guid))
         die("no guid in", xml_path);
-    enum { X, Y, Z, VX, WY, NIN };
-    const char *in_names[NIN] = {"x", "y", "z", "vx", "wy"};
-    fmi2ValueReference in_vr[NIN];
-    for (int k = 0; k < NIN; k++) in_vr[k] = vr_of(xml, in_names[k]);
-    enum { NOUT = 3 };
-    const char *out_names[NOUT] = {"normalForce", "rollingForce", "sideForce"};
-    fmi2ValueReference out_vr[NOUT];
-    for (int k = 0; k < NOUT; k++) out_vr[k] = vr_of(xml, out_names[k]);
+    fmi2ValueReference in_vr[NIN], out_vr[NOUT];
+    for (int k = 0; k < NIN; k++) in_vr[k] = var_of(xml, in_names[k], NULL);
+    for (int k = 0; k < NOUT; k++) out_vr[k] = var_of(xml, out_names[k], NULL);
+    Scene *scenes = calloc((size_t)nsc, sizeof *scenes);
+    for (int i = 0; i < nsc; i++) {
+        load_scene(&scenes[i], argv[4 + i], xml);
+        scenes[i].t_do = malloc(scenes[i].ntimed * (size_t)reps * sizeof(double));
+        scenes[i].t_all = malloc(scenes[i].ntimed * (size_t)reps * sizeof(double));
+    }
 
     void *lib = dlopen(lib_path, RTLD_NOW | RTLD_LOCAL);
     if (!lib) die("dlopen failed", dlerror());
@@ -187,52 +269,76 @@ int main(int argc, char **argv) {
     Component_t enter_init = (Component_t)sym(lib, "fmi2EnterInitializationMode");
     Component_t exit_init = (Component_t)sym(lib, "fmi2ExitInitializationMode");
     SetReal_t set_real = (SetReal_t)sym(lib, "fmi2SetReal");
+    SetInteger_t set_int = (SetInteger_t)sym(lib, "fmi2SetInteger");
     GetReal_t get_real = (GetReal_t)sym(lib, "fmi2GetReal");
     DoStep_t do_step = (DoStep_t)sym(lib, "fmi2DoStep");
     FreeInstance_t free_instance = (FreeInstance_t)sym(lib, "fmi2FreeInstance");
 
-    const double R = 0.2159, p = 3.8e-3, v = 1.0, h = 1e-3;
+    const double h = 1e-3;
     fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
-    size_t n = (size_t)steps * (size_t)reps;
-    double *t_do = malloc(n * sizeof *t_do), *t_all = malloc(n * sizeof *t_all);
-    double out[NOUT] = {0, 0, 0}, sum[NOUT] = {0, 0, 0};
-    size_t k = 0;
-    for (int rep = 0; rep < reps; rep++) {
-        fmi2Component c = instantiate("kerf_host", fmi2CoSimulation, guid, NULL, &cb, 0, 0);
-        if (!c) die("fmi2Instantiate failed", NULL);
-        if (setup(c, 0, 0.0, 0.0, 0, 0.0) > fmi2Warning) die("fmi2SetupExperiment failed", NULL);
-        if (enter_init(c) > fmi2Warning) die("fmi2EnterInitializationMode failed", NULL);
-        double in[NIN] = {0.0, 0.0, R - p, v, v / R};
-        if (set_real(c, in_vr, NIN, in) > fmi2Warning) die("fmi2SetReal failed", NULL);
-        if (exit_init(c) > fmi2Warning) die("fmi2ExitInitializationMode failed", NULL);
-        for (int s = 0; s < steps; s++, k++) {
-            double t = s * h;
-            in[X] = v * t; /* the pose for the communication point t */
-            double t0 = now_us();
-            if (!carry && set_real(c, in_vr, NIN, in) > fmi2Warning)
-                die("fmi2SetReal failed", NULL);
-            double t1 = now_us();
-            if (do_step(c, t, h, 1) > fmi2Warning) die("fmi2DoStep failed", NULL);
-            double t2 = now_us();
-            if (get_real(c, out_vr, NOUT, out) > fmi2Warning) die("fmi2GetReal failed", NULL);
-            double t3 = now_us();
-            t_do[k] = t2 - t1;
-            t_all[k] = t3 - t0;
-            if (s >= steps / 5)
-                for (int j = 0; j < NOUT; j++) sum[j] += out[j] / (steps - steps / 5) / reps;
+    /* rep -1 is a warm-up of the first scene, not recorded: the first run in
+     * a process pays for page faults and cold caches, and the first scene is
+     * the straight cut every ratio divides by */
+    for (int rep = -1; rep < reps; rep++) {
+        for (int i = 0; i < (rep < 0 ? 1 : nsc); i++) {
+            Scene *sc = &scenes[i];
+            fmi2Component c = instantiate("kerf_host", fmi2CoSimulation, guid, NULL, &cb, 0, 0);
+            if (!c) die("fmi2Instantiate failed", sc->name);
+            for (int j = 0; j < sc->npar; j++) {
+                fmi2Status st;
+                if (sc->par_int[j]) {
+                    fmi2Integer v = (fmi2Integer)sc->par_val[j];
+                    st = set_int(c, &sc->par_vr[j], 1, &v);
+                } else {
+                    st = set_real(c, &sc->par_vr[j], 1, &sc->par_val[j]);
+                }
+                if (st > fmi2Warning) die("setting a parameter failed", sc->name);
+            }
+            if (setup(c, 0, 0.0, 0.0, 0, 0.0) > fmi2Warning) die("fmi2SetupExperiment failed", NULL);
+            if (enter_init(c) > fmi2Warning) die("fmi2EnterInitializationMode failed", NULL);
+            if (set_real(c, in_vr, NIN, sc->rows) > fmi2Warning) die("fmi2SetReal failed", NULL);
+            if (exit_init(c) > fmi2Warning) die("fmi2ExitInitializationMode failed", sc->name);
+            double out[NOUT];
+            for (size_t s = 0; s < sc->nrows; s++) {
+                double t = (double)s * h;
+                const double *in = sc->rows + s * NIN;
+                double t0 = now_us();
+                if (set_real(c, in_vr, NIN, in) > fmi2Warning) die("fmi2SetReal failed", sc->name);
+                double t1 = now_us();
+                if (do_step(c, t, h, 1) > fmi2Warning) die("fmi2DoStep failed", sc->name);
+                double t2 = now_us();
+                if (get_real(c, out_vr, NOUT, out) > fmi2Warning) die("fmi2GetReal failed", sc->name);
+                double t3 = now_us();
+                if (rep >= 0 && sc->timed[s]) {
+                    sc->t_do[sc->k] = t2 - t1;
+                    sc->t_all[sc->k] = t3 - t0;
+                    sc->k++;
+                    for (int j = 0; j < NOUT; j++) sc->sum[j] += out[j];
+                }
+            }
+            free_instance(c);
         }
-        free_instance(c);
     }
-    printf("{\"library\": \"%s\", \"mode\": \"%s\", \"steps\": %d, \"reps\": %d, \"step_s\": %g, "
-           "\"dostep_us_median\": %.3f, \"dostep_us_p25\": %.3f, \"dostep_us_p75\": %.3f, "
-           "\"dostep_us_min\": %.3f, \"step_us_median\": %.3f, \"step_us_p25\": %.3f, "
-           "\"step_us_p75\": %.3f, \"mean_normal\": %.1f, \"mean_rolling\": %.1f, "
-           "\"mean_side\": %.1f}\n",
-           lib_path, mode, steps, reps, h, quantile(t_do, n, 0.5), quantile(t_do, n, 0.25),
-           quantile(t_do, n, 0.75), quantile(t_do, n, 0.0), quantile(t_all, n, 0.5),
-           quantile(t_all, n, 0.25), quantile(t_all, n, 0.75), sum[0], sum[1], sum[2]);
-    free(t_do);
-    free(t_all);
+    for (int i = 0; i < nsc; i++) {
+        Scene *sc = &scenes[i];
+        size_t n = sc->k;
+        printf("{\"kind\": \"host\", \"scene\": \"%s\", \"library\": \"%s\", \"reps\": %d, "
+               "\"timed_steps\": %zu, \"steps\": %zu, \"step_s\": %g, "
+               "\"dostep_us_median\": %.3f, \"dostep_us_p25\": %.3f, \"dostep_us_p75\": %.3f, "
+               "\"dostep_us_min\": %.3f, \"step_us_median\": %.3f, \"step_us_p25\": %.3f, "
+               "\"step_us_p75\": %.3f, \"mean_normal\": %.1f, \"mean_rolling\": %.1f, "
+               "\"mean_side\": %.1f}\n",
+               sc->name, lib_path, reps, sc->ntimed, sc->nrows, h, quantile(sc->t_do, n, 0.5),
+               quantile(sc->t_do, n, 0.25), quantile(sc->t_do, n, 0.75),
+               quantile(sc->t_do, n, 0.0), quantile(sc->t_all, n, 0.5),
+               quantile(sc->t_all, n, 0.25), quantile(sc->t_all, n, 0.75), sc->sum[0] / (double)n,
+               sc->sum[1] / (double)n, sc->sum[2] / (double)n);
+        free(sc->rows);
+        free(sc->timed);
+        free(sc->t_do);
+        free(sc->t_all);
+    }
+    free(scenes);
     free(xml);
     dlclose(lib);
     return 0;

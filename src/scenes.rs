@@ -213,29 +213,52 @@ pub fn roll(model: &mut Model, track: &dyn Track, length: f64, h: f64, lo: f64, 
 pub const PASS: f64 = 0.15;
 pub const WINDOW: (f64, f64) = (0.06, 0.14);
 
+/// A scene as the passes that make it: the face, then each pass rolled in
+/// turn over its length on one model; the last pass is the measured one,
+/// averaged over `WINDOW`. The speed-vs-error report's C host replays the
+/// same passes through the FMU.
+pub struct Plan {
+    pub prm: Params,
+    pub passes: Vec<(Box<dyn Track>, f64)>,
+}
+
+impl Plan {
+    /// Rolls every pass in turn on a new model: the mean of the last.
+    pub fn run(&self) -> Mean {
+        let mut m = Model::new(self.prm.clone()).unwrap();
+        let (last, first) = self.passes.split_last().unwrap();
+        for (t, len) in first {
+            roll(&mut m, t.as_ref(), *len, 1e-3, 0.0, 0.0);
+        }
+        roll(&mut m, last.0.as_ref(), last.1, 1e-3, WINDOW.0, WINDOW.1)
+    }
+}
+
 /// A fresh straight cut `depth` deep, rolled by `roll` (0 = upright).
-pub fn fresh(cell: f64, depth: f64, roll: f64) -> Mean {
+pub fn fresh_plan(cell: f64, depth: f64, roll: f64) -> Plan {
     let prm = face(cell, -0.3, 0.5, -0.06, 0.06);
-    let mut m = Model::new(prm.clone()).unwrap();
     let t = Straight {
-        prm,
+        prm: prm.clone(),
         x0: 0.0,
         y: 0.0,
         depth,
         roll,
     };
-    roll_track(&mut m, &t)
+    Plan {
+        prm,
+        passes: vec![(Box::new(t), PASS)],
+    }
 }
 
-fn roll_track(m: &mut Model, t: &dyn Track) -> Mean {
-    roll(m, t, PASS, 1e-3, WINDOW.0, WINDOW.1)
+/// The mean of `fresh_plan`.
+pub fn fresh(cell: f64, depth: f64, roll: f64) -> Mean {
+    fresh_plan(cell, depth, roll).run()
 }
 
 /// A second pass `offset` beside a first groove of the same depth (upright
-/// discs): the mean of the second pass.
-pub fn beside(cell: f64, depth: f64, offset: f64) -> Mean {
+/// discs), measured on the second pass.
+pub fn beside_plan(cell: f64, depth: f64, offset: f64) -> Plan {
     let prm = face(cell, -0.3, 0.5, -0.06, 0.06);
-    let mut m = Model::new(prm.clone()).unwrap();
     let first = Straight {
         prm: prm.clone(),
         x0: -0.1,
@@ -243,15 +266,67 @@ pub fn beside(cell: f64, depth: f64, offset: f64) -> Mean {
         depth,
         roll: 0.0,
     };
-    roll(&mut m, &first, PASS + 0.2, 1e-3, 0.0, 0.0);
     let second = Straight {
-        prm,
+        prm: prm.clone(),
         x0: 0.0,
         y: offset,
         depth,
         roll: 0.0,
     };
-    roll_track(&mut m, &second)
+    Plan {
+        prm,
+        passes: vec![(Box::new(first), PASS + 0.2), (Box::new(second), PASS)],
+    }
+}
+
+/// The mean of `beside_plan`.
+pub fn beside(cell: f64, depth: f64, offset: f64) -> Mean {
+    beside_plan(cell, depth, offset).run()
+}
+
+/// An arc of a circular track of radius `rt` centred on (0, rt), the disc
+/// passing (0, 0) heading +x: on fresh rock (`reroll` false), or a second
+/// lap rolling the groove the first lap cut, at its own depth.
+pub fn lap_plan(cell: f64, depth: f64, rt: f64, reroll: bool) -> Plan {
+    // a0 = -pi/2 puts the disc at (0, 0) heading +x
+    let len = PASS + 0.2;
+    let half = 0.5 * len.min(std::f64::consts::PI * rt);
+    let ang = (half / rt).min(std::f64::consts::PI);
+    let reach = if ang > std::f64::consts::FRAC_PI_2 {
+        rt
+    } else {
+        rt * ang.sin()
+    };
+    let prm = face(
+        cell,
+        -reach - 0.3,
+        reach + 0.3,
+        -0.06,
+        0.06 + rt * (1.0 - ang.cos()),
+    );
+    let a0 = -std::f64::consts::FRAC_PI_2 - (half - 0.1) / rt;
+    let first = Circle {
+        prm: prm.clone(),
+        cx: 0.0,
+        cy: rt,
+        radius: rt,
+        a0: a0 - 0.1 / rt,
+        depth,
+    };
+    let second = Circle {
+        prm: prm.clone(),
+        cx: 0.0,
+        cy: rt,
+        radius: rt,
+        a0,
+        depth,
+    };
+    let mut passes: Vec<(Box<dyn Track>, f64)> = Vec::new();
+    if reroll {
+        passes.push((Box::new(first), len));
+    }
+    passes.push((Box::new(second), PASS));
+    Plan { prm, passes }
 }
 
 /// Re-rolls a groove at its own depth: the first pass cuts it, the second
@@ -259,45 +334,7 @@ pub fn beside(cell: f64, depth: f64, offset: f64) -> Mean {
 pub fn reroll(cell: f64, depth: f64, radius: Option<f64>) -> Mean {
     match radius {
         None => beside(cell, depth, 0.0),
-        Some(rt) => {
-            // an arc of the circle centred on (0, -rt): the disc starts at
-            // (0, 0) heading +x (a0 = pi/2 makes it head -x, so a0 = -pi/2)
-            let len = PASS + 0.2;
-            let half = 0.5 * len.min(std::f64::consts::PI * rt);
-            let ang = (half / rt).min(std::f64::consts::PI);
-            let reach = if ang > std::f64::consts::FRAC_PI_2 {
-                rt
-            } else {
-                rt * ang.sin()
-            };
-            let prm = face(
-                cell,
-                -reach - 0.3,
-                reach + 0.3,
-                -0.06,
-                0.06 + rt * (1.0 - ang.cos()),
-            );
-            let mut m = Model::new(prm.clone()).unwrap();
-            let a0 = -std::f64::consts::FRAC_PI_2 - (half - 0.1) / rt;
-            let first = Circle {
-                prm: prm.clone(),
-                cx: 0.0,
-                cy: rt,
-                radius: rt,
-                a0: a0 - 0.1 / rt,
-                depth,
-            };
-            roll(&mut m, &first, len, 1e-3, 0.0, 0.0);
-            let second = Circle {
-                prm,
-                cx: 0.0,
-                cy: rt,
-                radius: rt,
-                a0,
-                depth,
-            };
-            roll_track(&mut m, &second)
-        }
+        Some(rt) => lap_plan(cell, depth, rt, true).run(),
     }
 }
 

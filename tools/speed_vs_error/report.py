@@ -3,7 +3,7 @@
 result) into docs/speed-vs-error.md, docs/speed-vs-error.json,
 docs/speed-vs-error.png and docs/convergence.png.
 
-usage: report.py ROWS.json HOST.json|- DOCS_DIR
+usage: report.py ROWS.json COSTS.jsonl|- DOCS_DIR
 """
 import json
 import math
@@ -21,8 +21,8 @@ METRICS = [
     ("err_rolling", "F_R vs CSM"),
     ("err_side", "F_S / F_N(CSM)"),
     ("err_volume", "volume vs groove"),
-    ("err_tilt", "tilted 30° vs converged"),
-    ("err_groove", "beside groove vs converged"),
+    ("err_tilt", "tilted 30° vs converged, worst component / F_N"),
+    ("err_groove", "beside groove vs converged, worst component / F_N"),
 ]
 
 
@@ -86,13 +86,260 @@ def setting_text(r):
     return r["label"]
 
 
+TARGET_US = 5.0
+TARGET_RATIO = 2.0
+R_DISC = 0.2159
+
+
+def scene_summary(data, costs):
+    """Per scene: the forces at each cell size, the error of each component
+    against the 0.25 mm run (or the finest run there is) relative to the
+    fresh cut's normal force, the oracle's, and the cost from the core and
+    the C host (median over rounds of each round's median)."""
+    fn = data["csm"]["normal"]
+    out = []
+    scenes = data.get("scenes") or []
+    for sc in scenes:
+        cells = {float(k): v for k, v in sc["cells"].items()}
+        ref_cell = min(cells)
+        ref = cells[ref_cell]
+        d = {"scene": sc["scene"], "kind": sc["kind"], "ref_cell_mm": ref_cell, "cells": {}}
+        for c, m in sorted(cells.items(), reverse=True):
+            e = {
+                "force_kN": [x / 1e3 for x in m["force"]],
+                "moment_kNm": [x / 1e3 for x in m["moment"]],
+                "err_force": [(a - b) / fn for a, b in zip(m["force"], ref["force"])],
+                "err_moment": [(a - b) / (fn * R_DISC) for a, b in zip(m["moment"], ref["moment"])],
+                "volume_per_length_mm2": m["volume"] / m["length"] * 1e6 if m["length"] > 0 else None,
+                "rolling_work_per_volume": m["cutting"][1] * m["length"] / m["volume"] if m["volume"] > 1e-12 else None,
+            }
+            e["worst"] = max(abs(x) for x in e["err_force"] + e["err_moment"])
+            d["cells"][c] = e
+        o = sc.get("oracle")
+        if o:
+            d["oracle"] = {
+                "err": [(a - b) / fn for a, b in zip(o["fast"], o["brute"])],
+                "brute_kN": [x / 1e3 for x in o["brute"]],
+                "ms_brute": o["ms_brute"],
+            }
+        out.append(d)
+    # the fresh cut's rolling work per volume, for the partial scenes
+    fresh = next((d for d in out if d["kind"] == "fresh"), None)
+    for d in out:
+        for c, e in d["cells"].items():
+            w0 = fresh["cells"].get(c, {}).get("rolling_work_per_volume") if fresh else None
+            w = e["rolling_work_per_volume"]
+            e["wv_vs_fresh"] = w / w0 if w and w0 else None
+            f0 = fresh["cells"].get(c, {}).get("force_kN") if fresh else None
+            e["normal_vs_fresh"] = e["force_kN"][0] / f0[0] if f0 else None
+    # costs
+    by = {}
+    for r in costs:
+        by.setdefault((r["kind"], r["scene"]), []).append(r)
+    for d in out:
+        core = by.get(("core", d["scene"]), [])
+        host = by.get(("host", d["scene"]), [])
+        d["cost"] = {
+            "rounds_core": len(core),
+            "rounds_host": len(host),
+            "core_us": float(np.median([r["us_median"] for r in core])) if core else None,
+            "core_us_rounds": [r["us_median"] for r in core],
+            "host_dostep_us": float(np.median([r["dostep_us_median"] for r in host])) if host else None,
+            "host_dostep_p25": float(np.median([r["dostep_us_p25"] for r in host])) if host else None,
+            "host_dostep_p75": float(np.median([r["dostep_us_p75"] for r in host])) if host else None,
+            "host_step_us": float(np.median([r["step_us_median"] for r in host])) if host else None,
+            "host_dostep_us_rounds": [r["dostep_us_median"] for r in host],
+            "host_mean_force_kN": [
+                float(np.mean([r[k] for r in host])) / 1e3 for k in ("mean_normal", "mean_rolling", "mean_side")
+            ] if host else None,
+        }
+    st = next((d for d in out if d["kind"] == "fresh"), None)
+    for d in out:
+        c, s0 = d["cost"], st["cost"] if st else {}
+        for k in ("core_us", "host_dostep_us"):
+            c[k + "_vs_straight"] = c[k] / s0[k] if c.get(k) and s0.get(k) else None
+    return out
+
+
+def sgn_pct(x, digits=2):
+    if x is None:
+        return "—"
+    return f"{100 * x:+.{digits}f}"
+
+
+def scene_plots(summary, fig_axes):
+    """Cost per scene (core and host, with the targets) and the worst
+    component error at 1 mm per scene."""
+    ax_c, ax_e = fig_axes
+    names = [d["scene"] for d in summary]
+    y = np.arange(len(names))
+    core = [d["cost"]["core_us"] or 0 for d in summary]
+    host = [d["cost"]["host_dostep_us"] or 0 for d in summary]
+    ax_c.barh(y - 0.2, core, 0.4, label="core: cut + evaluate", color="tab:blue")
+    ax_c.barh(y + 0.2, host, 0.4, label="C host: fmi2DoStep", color="tab:orange")
+    ax_c.axvline(TARGET_US, color="k", ls="--", lw=1, label=f"target {TARGET_US:g} µs")
+    st = next((d for d in summary if d["kind"] == "fresh"), None)
+    if st and st["cost"]["host_dostep_us"]:
+        ax_c.axvline(TARGET_RATIO * st["cost"]["host_dostep_us"], color="tab:orange", ls=":", lw=1,
+                     label=f"{TARGET_RATIO:g}x straight (host)")
+    ax_c.set_yticks(y)
+    ax_c.set_yticklabels(names, fontsize=8)
+    ax_c.invert_yaxis()
+    ax_c.set_xscale("log")
+    ax_c.set_xlabel("µs per 1 ms step at 1 m/s (median over rounds)")
+    ax_c.set_title("cost per scene (1 mm cells)", fontsize=11)
+    ax_c.legend(fontsize=8)
+    ax_c.grid(True, axis="x", which="both", alpha=0.3)
+    comps = ["normal", "rolling", "side"]
+    for k, (cname, col) in enumerate(zip(comps, ["tab:blue", "tab:green", "tab:red"])):
+        v = [abs(d["cells"].get(1.0, {}).get("err_force", [0, 0, 0])[k]) * 100 for d in summary]
+        ax_e.barh(y + (k - 1) * 0.27, v, 0.27, label=cname, color=col)
+    ax_e.plot([max(abs(x) for x in d["oracle"]["err"]) * 100 if d.get("oracle") else np.nan for d in summary],
+              y, "kx", label="fast − oracle, worst comp.")
+    ax_e.axvline(2.0, color="k", ls="--", lw=1, label="issue: 2 % at 1 mm")
+    ax_e.set_yticks(y)
+    ax_e.set_yticklabels(names, fontsize=8)
+    ax_e.invert_yaxis()
+    ax_e.set_xlabel(f"|1 mm − {summary[0]['ref_cell_mm']:g} mm| per component, % of the fresh cut's F_N")
+    ax_e.set_title("error per scene and component (1 mm cells)", fontsize=11)
+    ax_e.legend(fontsize=8)
+    ax_e.grid(True, axis="x", alpha=0.3)
+
+
+def scene_markdown(summary, data, L):
+    fn = data["csm"]["normal"]
+    if not summary:
+        return
+    ref_cell = summary[0]["ref_cell_mm"]
+    L.append("## The cutterhead's scenes, per force component\n")
+    L.append(
+        "The scenes of `src/scenes.rs` (`kerf::scenes`, the same the contact-law tests use): "
+        "the disc rolls free at 1 m/s, spinning about its own axle, in 1 ms steps, its lowest "
+        "point 3.8 mm below the flat face, and the cutter-frame outputs are averaged over "
+        "0.06–0.14 m of the measured pass. **fresh straight**: one cut on a flat face. "
+        "**tilted g**: the same cut with the disc rolled by g. **beside groove, d**: a second "
+        "pass d beside a 3.8 mm groove cut first (a partial cut). **re-roll**: a second pass "
+        "over the pass's own groove (straight, or a second lap of a curved track). **curved r, "
+        "fresh lap**: one lap of an r-radius track on fresh rock.\n"
+    )
+    L.append(
+        f"Forces (the FMU's outputs, friction included) at the default 1 mm cells, and the error of each component against the same "
+        f"scene at {ref_cell:g} mm cells (the converged reference), in % of the fresh cut's "
+        f"normal force F_N = {fn / 1e3:.1f} kN (CSM closed form; moments in % of F_N·R = "
+        f"{fn * R_DISC / 1e3:.2f} kN·m). The errors are signed (1 mm minus reference); no column "
+        "is a norm of several components. **fast − oracle**: the cutting force (friction left "
+        "out) of the fast contact minus the brute-force oracle's (`Model::contact_brute`, "
+        "0.05 mm arc steps, 101 slices) at one pose inside the window, same 1 mm map, % of F_N.\n"
+    )
+    coarse = sorted((c for c in summary[0]["cells"] if c != 1.0 and c != ref_cell), reverse=True)
+    hdr = ("| scene | F_N | F_R | F_S [kN] | ΔF_N | ΔF_R | ΔF_S | ΔM_x | ΔM_y | ΔM_z [%] | "
+           + "".join(f"worst @{c:g} mm | " for c in coarse)
+           + "fast − oracle N / R / S [%] | W/V ÷ fresh |")
+    L.append(hdr)
+    L.append("|" + "---|" * (hdr.count("|") - 1))
+    for d in summary:
+        e = d["cells"].get(1.0)
+        if not e:
+            continue
+        o = d.get("oracle")
+        ws = [pct(d["cells"][c]["worst"]) if c in d["cells"] else "—" for c in coarse]
+        L.append(
+            f"| {d['scene']} | {e['force_kN'][0]:.2f} | {e['force_kN'][1]:.2f} | {e['force_kN'][2]:.2f} | "
+            + " | ".join(sgn_pct(x) for x in e["err_force"]) + " | "
+            + " | ".join(sgn_pct(x) for x in e["err_moment"]) + " | "
+            + "".join(w + " | " for w in ws)
+            + (" / ".join(sgn_pct(x) for x in o["err"]) if o else "—") + " | "
+            + (f"{e['wv_vs_fresh']:.2f}" if e.get("wv_vs_fresh") and d["kind"] != "reroll" else "—")
+            + " |"
+        )
+    L.append("")
+    worst1 = max(d["cells"][1.0]["worst"] for d in summary if 1.0 in d["cells"])
+    wname = max((d for d in summary if 1.0 in d["cells"]), key=lambda d: d["cells"][1.0]["worst"])["scene"]
+    L.append(
+        f"Worst component error at 1 mm: **{100 * worst1:.2f} %** of F_N ({wname}); the issue "
+        "asks for 2 % at 1 mm and 0.5 % at 0.5 mm."
+        + (
+            f" Worst at 0.5 mm: {100 * max(d['cells'][0.5]['worst'] for d in summary if 0.5 in d['cells']):.2f} %."
+            if all(0.5 in d["cells"] for d in summary) and ref_cell < 0.5 else ""
+        )
+        + " `W/V ÷ fresh` is the rolling work of the cutting force per volume of rock removed, "
+          "against the fresh cut's (the issue asks for ±30 % where a pass removes at least 20 % "
+          "of a fresh groove). Re-rolls remove (almost) nothing; there the normal force as a "
+          "share of the fresh cut's is the measure (issue: ≤ 5 %): "
+        + ", ".join(
+            f"{d['scene']} {100 * d['cells'][1.0]['normal_vs_fresh']:.1f} %"
+            for d in summary if d["kind"] == "reroll" and d["cells"].get(1.0, {}).get("normal_vs_fresh") is not None
+        )
+        + ".\n"
+    )
+
+    # cost
+    L.append("## Cost per scene\n")
+    c0 = summary[0]["cost"]
+    L.append(
+        "Median µs per 1 ms step at 1 m/s over the measured window (80 steps), 1 mm cells, "
+        f"median over {c0['rounds_core']} interleaved rounds of each round's median. **core**: "
+        "`Model::commit` along the path + `Model::evaluate` (`kerf::scenes::roll`). **C host**: "
+        "`host/kerf_host.c` replays the same passes through the FMU (the scene files written "
+        "by `examples/speed-vs-error.rs --host-scenes`): fmi2SetReal of the 12 pose and "
+        "velocity inputs, fmi2DoStep of 1 ms, fmi2GetReal of the forces, on a face set by "
+        "the `rock.*` parameters. The issue's targets: every scene ≤ 5 µs from the bare C host, "
+        "and none more than 2x the straight cut.\n"
+    )
+    L.append("| scene | core µs | core ÷ straight | C host fmi2DoStep µs [IQR] | host ÷ straight | "
+             "host SetReal+DoStep+GetReal µs | ≤ 5 µs | ≤ 2x straight |")
+    L.append("|---|---|---|---|---|---|---|---|")
+
+    def f1(x):
+        return "—" if x is None else us(x)
+
+    def rx(x):
+        return "—" if x is None else f"{x:.2f}"
+
+    met5 = met2 = True
+    for d in summary:
+        c = d["cost"]
+        ref = c["host_dostep_us"] if c["host_dostep_us"] is not None else c["core_us"]
+        ratio = c["host_dostep_us_vs_straight"] if c["host_dostep_us"] is not None else c["core_us_vs_straight"]
+        ok5 = ref is not None and ref <= TARGET_US
+        ok2 = ratio is not None and ratio <= TARGET_RATIO
+        met5 &= ok5
+        met2 &= ok2
+        L.append(
+            f"| {d['scene']} | {f1(c['core_us'])} | {rx(c['core_us_vs_straight'])} | "
+            + (f"{f1(c['host_dostep_us'])} [{f1(c['host_dostep_p25'])}–{f1(c['host_dostep_p75'])}]"
+               if c["host_dostep_us"] is not None else "—")
+            + f" | {rx(c['host_dostep_us_vs_straight'])} | {f1(c['host_step_us'])} | "
+            f"{'met' if ok5 else '**not met**'} | {'met' if ok2 else '**not met**'} |"
+        )
+    L.append("")
+    L.append(
+        f"Targets: ≤ {TARGET_US:g} µs on every scene **{'met' if met5 else 'not met'}**; "
+        f"≤ {TARGET_RATIO:g}x the straight cut on every scene **{'met' if met2 else 'not met'}**. "
+        "Timings are wall-clock on a shared 2-core machine; ratios between scenes of one "
+        "round are steadier than the absolute figures.\n"
+    )
+    st = next((d for d in summary if d["kind"] == "fresh"), None)
+    if st and st["cost"]["host_step_us"] and st["cost"]["core_us"]:
+        ov = st["cost"]["host_step_us"] - st["cost"]["core_us"]
+        hf = st["cost"]["host_mean_force_kN"]
+        L.append(
+            f"FMI layer on the straight cut: the host's whole step costs {ov:+.1f} µs against "
+            f"the core's ({100 * ov / st['cost']['core_us']:+.0f} %; the two run in different "
+            "processes a moment apart, so a few µs either way is noise). Mean forces the host "
+            f"sees over the window: F_N {hf[0]:.2f}, F_R {hf[1]:.2f}, F_S {hf[2]:.2f} kN "
+            f"(core at 1 mm: {st['cells'][1.0]['force_kN'][0]:.2f}, "
+            f"{st['cells'][1.0]['force_kN'][1]:.2f}, {st['cells'][1.0]['force_kN'][2]:.2f}).\n"
+        )
+
+
 def main():
     rows_path, host_path, docs = sys.argv[1], sys.argv[2], Path(sys.argv[3])
     data = json.loads(Path(rows_path).read_text())
-    host = None
+    costs = []
     if host_path != "-" and Path(host_path).exists() and Path(host_path).stat().st_size:
-        runs = [json.loads(l) for l in Path(host_path).read_text().splitlines() if l.strip()]
-        host = {"runs": runs}
+        costs = [json.loads(l) for l in Path(host_path).read_text().splitlines() if l.strip()]
+    summary = scene_summary(data, costs)
     rows = data["rows"]
     docs.mkdir(parents=True, exist_ok=True)
 
@@ -107,7 +354,9 @@ def main():
         ("tilted 30° vs converged run (cost of the tilted cut)", lambda r: r["err_tilt"]),
         ("cut 10 mm beside a groove vs converged run", lambda r: r["err_groove"]),
     ]
-    fig, axes = plt.subplots(2, 2, figsize=(13, 10))
+    fig = plt.figure(figsize=(13, 16))
+    top, bottom = fig.subfigures(2, 1, height_ratios=[2.15, 1])
+    axes = top.subplots(2, 2)
     def short(r):
         if r["model"] == "baseline":
             t = f"{r['n_alpha']}x{r['n_y']}"
@@ -179,13 +428,16 @@ def main():
         Line2D([], [], marker="s", color="tab:red", ls="", label="thesis-faithful baseline"),
         Line2D([], [], color="k", ls="--", label="Pareto front, 1 mm steps (labelled)"),
     ]
-    fig.legend(handles=handles, loc="lower center", ncol=6, fontsize=9)
-    fig.suptitle(
+    top.legend(handles=handles, loc="lower center", ncol=3, fontsize=9)
+    if summary:
+        scene_plots(summary, bottom.subplots(1, 2))
+    top.suptitle(
         "kerf: error against cost per evaluation (reference scene R 0.2159 m, p 3.8 mm, 1 m/s; "
         "face 0.8 m x 0.2 m)",
         fontsize=12,
     )
-    fig.tight_layout(rect=(0, 0.04, 1, 0.97))
+    top.subplots_adjust(left=0.08, right=0.97, top=0.93, bottom=0.12, hspace=0.3, wspace=0.25)
+    bottom.subplots_adjust(left=0.17, right=0.97, top=0.9, bottom=0.14, wspace=0.45)
     fig.savefig(docs / "speed-vs-error.png", dpi=110)
     plt.close(fig)
 
@@ -193,7 +445,7 @@ def main():
     cells = sorted(
         [r for r in kerf if r["group"] in ("cell", "defaults")], key=lambda r: -r["cell_mm"]
     )
-    fig, ax = plt.subplots(figsize=(8.5, 6))
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(16, 6.5))
     orders = {}
     for key, name, mk in [
         ("err_volume", "removed volume vs analytic groove", "o"),
@@ -228,9 +480,30 @@ def main():
             transform=ax.transAxes, fontsize=8)
     ax.set_xlabel("cell size [mm] (other numerics at their defaults)")
     ax.set_ylabel("relative error [-]")
-    ax.set_title("kerf: convergence with cell size (reference scene, 1 mm steps)")
+    ax.set_title("settings table: convergence with cell size (1 mm steps)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=9)
+    # the cutterhead's scenes: worst component against the finest run
+    markers = "osD^v<>ph*X"
+    for k, d in enumerate(summary):
+        cs = sorted(c for c in d["cells"] if c != d["ref_cell_mm"])
+        e = [max(d["cells"][c]["worst"], 1e-6) for c in cs]
+        if cs:
+            ax2.loglog(cs, e, marker=markers[k % len(markers)], label=d["scene"], lw=1)
+    if summary:
+        ax2.axhline(0.02, color="k", ls="--", lw=0.8)
+        ax2.axhline(0.005, color="k", ls=":", lw=0.8)
+        ax2.text(2.0, 0.021, "issue: 2 % at 1 mm", fontsize=8)
+        ax2.text(2.0, 0.0052, "0.5 % at 0.5 mm", fontsize=8)
+        ax2.invert_xaxis()
+        ax2.set_xticks([2, 1, 0.5])
+        ax2.set_xticklabels(["2", "1", "0.5"])
+        ax2.minorticks_off()
+        ax2.set_xlabel(f"cell size [mm] (against {summary[0]['ref_cell_mm']:g} mm)")
+        ax2.set_ylabel("worst of F_N, F_R, F_S, M (÷ F_N, ÷ F_N R) [-]")
+        ax2.set_title("cutterhead scenes: worst force-component error with cell size")
+        ax2.grid(True, which="both", alpha=0.3)
+        ax2.legend(fontsize=7, ncol=2)
     fig.tight_layout()
     fig.savefig(docs / "convergence.png", dpi=110)
     plt.close(fig)
@@ -247,7 +520,8 @@ def main():
         "Timings are wall-clock on a shared 2-core machine: read the spread, not the digits; "
         "they are never a pass/fail test.\n"
     )
-    L.append("## Scenes and measures\n")
+    scene_markdown(summary, data, L)
+    L.append("## Numerical settings: scenes and measures\n")
     L.append(
         "Reference cutter and rock of thesis Table 2 (R = 0.2159 m, T = 13 mm, r = 12.7 mm, "
         "UCS 158 MPa, BTS 6.78 MPa, S = 51 mm, C = 2.12), p = 3.8 mm, 1 m/s, wy = v/R, on a "
@@ -261,10 +535,14 @@ def main():
         "* **volume**: rock removed while the centre crossed that window against the analytic "
         "groove (integral over |y| <= T/2 of max(0, p - (r - sqrt(r^2 - y^2)))) times its length.\n"
         "* **tilted**: the cutter rolled 30 deg, its lowest point 3.8 mm deep, a 0.2 m cut; "
-        "**beside groove**: a 0.2 m cut at y = 10 mm after one along y = 0. Both as the relative "
-        "norm of the cutter-frame force difference (normal, rolling, side), averaged over "
+        "**beside groove**: a 0.2 m cut at y = 10 mm after one along y = 0. Both as the largest "
+        "difference of one cutter-frame force component (normal, rolling, side) over the CSM "
+        "normal force, the components averaged over "
         "x in [0.08, 0.18] m, against a converged run of the same scene (0.25 mm cells, "
-        "17 tip slices, arc step 1 cell, sweep step 0.5 mm). **tilted µs/mm**: the cost of the tilted scene, median of one run.\n"
+        "17 tip slices, arc step 1 cell, sweep step 0.5 mm). **tilted µs/mm**: the cost of the tilted scene, median of one run. "
+        "These two scenes are older than `kerf::scenes` (another face, window and reference, "
+        "and they also run the baseline and other step lengths): they rank the numerical "
+        "settings; the scene tables above give each scene's figures.\n"
         "* **µs/mm**: wall time of one `advance` plus one `evaluate`, per mm of travel (one "
         "evaluation at the default 1 mm step), over the flat window's steps of all repeats: "
         "median [interquartile range]. **µs/call**: the same per call (differs for other step "
@@ -518,59 +796,6 @@ def main():
             "face.\n"
         )
 
-    # host
-    L.append("## FMI layer overhead (bare C host)\n")
-    if host:
-        runs = host["runs"]
-
-        def med(kind, field):
-            v = [r[field] for r in runs if r["kind"] == kind]
-            return float(np.median(v)) if v else float("nan")
-
-        core = {f: med("core", f) for f in ("us_median", "us_p25", "us_p75")}
-        hs = {f: med("host-set", f) for f in ("dostep_us_median", "dostep_us_p25", "dostep_us_p75", "step_us_median", "step_us_p25", "step_us_p75")}
-        hc = {f: med("host-carry", f) for f in ("dostep_us_median", "dostep_us_p25", "dostep_us_p75")}
-        first = next(r for r in runs if r["kind"] == "host-set")
-        rounds = sum(1 for r in runs if r["kind"] == "core")
-        host["summary"] = {"core": core, "host_set": hs, "host_carry": hc, "rounds": rounds}
-        L.append(
-            "`host/kerf_host.c` dlopens the library, reads the value references from "
-            "modelDescription.xml with a tiny parser and runs the FMU's default scene (1.5 m x "
-            f"0.2 m face, 1 mm cells) as Co-Simulation: {first['steps']} fmi2DoStep of 1 ms at "
-            "vx = 1 m/s, wy = 1/R. The core runs the same scene in between "
-            f"({rounds} interleaved rounds; each cell is the median over rounds of the per-round "
-            "median [quartiles]).\n"
-        )
-        L.append("| measured | µs per step, median [IQR] |")
-        L.append("|---|---|")
-        L.append(
-            f"| core: `advance` (1 ms) + `evaluate` | {core['us_median']:.1f} "
-            f"[{core['us_p25']:.1f}–{core['us_p75']:.1f}] |"
-        )
-        L.append(
-            f"| C host: fmi2DoStep, pose inputs set each step | {hs['dostep_us_median']:.1f} "
-            f"[{hs['dostep_us_p25']:.1f}–{hs['dostep_us_p75']:.1f}] |"
-        )
-        L.append(
-            f"| C host: fmi2DoStep, the FMU carries its pose | {hc['dostep_us_median']:.1f} "
-            f"[{hc['dostep_us_p25']:.1f}–{hc['dostep_us_p75']:.1f}] |"
-        )
-        L.append(
-            f"| C host: fmi2SetReal (5 inputs) + fmi2DoStep + fmi2GetReal (3 outputs) | "
-            f"{hs['step_us_median']:.1f} [{hs['step_us_p25']:.1f}–{hs['step_us_p75']:.1f}] |"
-        )
-        ov = hs["step_us_median"] - core["us_median"]
-        L.append(
-            f"\nFMI layer overhead per step: about {ov:.1f} µs ({100 * ov / core['us_median']:.0f} % "
-            "of the core's cost) for SetReal + DoStep + GetReal against the core's advance + "
-            "evaluate; differences of a microsecond are within the noise of a shared machine. "
-            f"Mean forces seen by the host over the last 80 % of the cut: F_N "
-            f"{first['mean_normal']:.0f} N, F_R {first['mean_rolling']:.0f} N, "
-            f"F_S {first['mean_side']:.0f} N.\n"
-        )
-    else:
-        L.append("The C host was not run (no C compiler or library).\n")
-
     L.append("## Plots\n")
     L.append("![speed vs error](speed-vs-error.png)\n")
     L.append("![convergence](convergence.png)\n")
@@ -587,7 +812,8 @@ def main():
         )
     (docs / "speed-vs-error.md").write_text("\n".join(L) + "\n")
     out = dict(data)
-    out["c_host"] = host
+    out["scene_summary"] = summary
+    out["costs"] = costs
     (docs / "speed-vs-error.json").write_text(json.dumps(out, indent=1) + "\n")
     print(f"wrote {docs}/speed-vs-error.md, .json, .png and convergence.png")
 

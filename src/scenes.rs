@@ -414,15 +414,18 @@ pub fn flanked_cutter(flank_deg: f64) -> CutterParams {
 pub fn fresh_disc(cutter: &CutterParams, cell: f64, depth: f64, roll: f64) -> Mean {
     let mut prm = face(cell, -0.3, 0.5, -0.08, 0.08);
     prm.cutter = *cutter;
-    let mut m = Model::new(prm.clone()).unwrap();
     let t = Straight {
-        prm,
+        prm: prm.clone(),
         x0: 0.0,
         y: 0.0,
         depth,
         roll,
     };
-    roll_track(&mut m, &t)
+    Plan {
+        prm,
+        passes: vec![(Box::new(t), PASS)],
+    }
+    .run()
 }
 
 /// The scenes flanks change (docs/flanks.md), with the disc `cutter`: a

@@ -13,13 +13,15 @@ use std::path::{Path, PathBuf};
 use crate::core::head::{place_all, DiscSpec, Drive, Head, HeadOutputs, HeadState, Mount};
 use crate::core::layout::Layout;
 use crate::core::params::CutterParams;
-use crate::core::{Params, Pose, Twist};
+use crate::core::{rim_speed, rim_spin_speed, Params, Pose, Twist};
 
 use super::head_md::{self, HeadVar, Slot, Ty};
-use super::instance::{kind_name, mask, EventInfo, Files, Kind, Mode, Res, Values};
+use super::instance::{
+    kind_name, mask, EventInfo, Files, Kind, Mode, Res, Values, EVENT_SLACK, TIME_EVENT_SWEEPS,
+};
 use super::log::{Category, Logger, Status};
 use super::machine::{check_kind, check_mode, mode_name, LogSwitches};
-use super::md::{self, Causality};
+use super::md::{self, vr, Causality};
 use super::state::fnv1a64;
 use super::state::Reader;
 
@@ -660,21 +662,90 @@ impl HeadInstance {
         Ok(Status::Ok)
     }
 
-    /// The head has no event indicators (its discs' cuts are step events).
+    // ---- Model Exchange -------------------------------------------------
+
+    /// The event indicator, as kerf.fmu's ([`super::instance::Instance::event_indicator`])
+    /// over all discs: `numerics.sweepStep` minus the largest rim travel of
+    /// any disc since the last committed cut. A disc's travel is the larger
+    /// of its pose's (from its last cut to its pose now) and its rim's spin
+    /// about the axle since the last commit. Zero when the disc that moved
+    /// most has travelled a sweep step; `sweepStep` before the first cut.
+    /// Changes nothing.
+    pub fn event_indicator(&self) -> f64 {
+        let step = self.values.kerf.real(vr::NUMERICS_SWEEP_STEP);
+        let Some(head) = self.head.as_ref() else {
+            return step;
+        };
+        let motions = self.motions();
+        let Some(travel) = head.travel_since_cut(&motions) else {
+            return step;
+        };
+        let dt = self.time - self.last_commit_time;
+        let spin = motions
+            .iter()
+            .zip(head.specs())
+            .map(|((p, t), s)| rim_spin_speed(p, t, s.cutter.radius) * dt)
+            .fold(0.0, f64::max);
+        step - travel.max(spin)
+    }
+
     pub fn get_event_indicators(&self, out: &mut [f64]) -> Res<Status> {
         const F: &str = "fmi2GetEventIndicators";
         self.check_kind(F, Kind::ModelExchange)?;
         self.check(F, mask::GET_EVENT_INDICATORS)?;
-        if !out.is_empty() {
+        if out.len() != head_md::NUMBER_OF_EVENT_INDICATORS {
             return Err(format!(
-                "{F}: ni = {}, but the head has none (0)",
-                out.len()
+                "{F}: ni = {}, but the head has {}",
+                out.len(),
+                head_md::NUMBER_OF_EVENT_INDICATORS
             ));
         }
+        out[0] = self.event_indicator();
         Ok(Status::Ok)
     }
 
-    // ---- Model Exchange -------------------------------------------------
+    /// Commits every disc's cut along its path from its last cut, once per
+    /// event.
+    fn commit_cut(&mut self, func: &str) -> Res<()> {
+        if self.event_committed {
+            return Ok(());
+        }
+        let motions = self.motions();
+        let dt = self.time - self.last_commit_time;
+        let head = self.head.as_mut().ok_or(format!("{func}: no head"))?;
+        match head.commit(&motions, dt) {
+            Ok(changed) => {
+                self.last_commit_time = self.time;
+                self.event_committed = true;
+                self.cache = None;
+                if changed {
+                    self.log_event(|| format!("t = {}: cuts committed (dt = {dt})", self.time));
+                }
+                Ok(())
+            }
+            // the commit is all or nothing: the instance is as it was
+            Err(e) => Err(format!("{func}: committing the cuts failed: {e}")),
+        }
+    }
+
+    /// The backstop time event (kerf.fmu's, [`TIME_EVENT_SWEEPS`]): when the
+    /// fastest rim, at the current speeds, will have travelled that many
+    /// sweep steps since the last cut. None when no disc moves.
+    fn backstop_event_time(&self) -> Option<f64> {
+        let step = self.values.kerf.real(vr::NUMERICS_SWEEP_STEP);
+        let motions = self.motions();
+        let speed = motions
+            .iter()
+            .zip(self.values.specs())
+            .map(|((p, t), s)| {
+                let r = s.cutter.radius;
+                rim_speed(p, t, r).max(rim_spin_speed(p, t, r))
+            })
+            .fold(0.0, f64::max);
+        let left = self.event_indicator() + (TIME_EVENT_SWEEPS - 1.0) * step;
+        let t = self.time + left / speed;
+        (speed > 0.0 && left > 0.0 && t.is_finite() && t > self.time).then_some(t)
+    }
 
     pub fn enter_event_mode(&mut self) -> Res<Status> {
         self.check_kind("fmi2EnterEventMode", Kind::ModelExchange)?;
@@ -690,24 +761,11 @@ impl HeadInstance {
     pub fn new_discrete_states(&mut self) -> Res<EventInfo> {
         self.check_kind("fmi2NewDiscreteStates", Kind::ModelExchange)?;
         self.check("fmi2NewDiscreteStates", mask::NEW_DISCRETE_STATES)?;
-        if !self.event_committed {
-            let motions = self.motions();
-            let dt = self.time - self.last_commit_time;
-            let head = self.head.as_mut().ok_or("fmi2NewDiscreteStates: no head")?;
-            match head.commit(&motions, dt) {
-                Ok(_) => {
-                    self.last_commit_time = self.time;
-                    self.event_committed = true;
-                    self.cache = None;
-                }
-                Err(e) => {
-                    return Err(format!(
-                        "fmi2NewDiscreteStates: committing the cuts failed: {e}"
-                    ));
-                }
-            }
-        }
-        Ok(EventInfo::default())
+        self.commit_cut("fmi2NewDiscreteStates")?;
+        Ok(EventInfo {
+            next_event_time: self.backstop_event_time(),
+            ..EventInfo::default()
+        })
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> Res<Status> {
@@ -716,12 +774,22 @@ impl HeadInstance {
             "fmi2EnterContinuousTimeMode",
             mask::ENTER_CONTINUOUS_TIME_MODE,
         )?;
+        // A host that skipped fmi2NewDiscreteStates in the initial event:
+        // the event indicator counts from the first cut, so make it now.
+        if self
+            .head
+            .as_ref()
+            .is_some_and(|h| h.travel_since_cut(&self.motions()).is_none())
+        {
+            self.commit_cut("fmi2EnterContinuousTimeMode")?;
+        }
         self.mode = ContinuousTimeMode;
         Ok(Status::Ok)
     }
 
-    /// Returns (enterEventMode, terminateSimulation): an event when any disc
-    /// would cut, or the discs do work on the rock.
+    /// Returns (enterEventMode, terminateSimulation): an event once per
+    /// sweep step of travel (the indicator at zero, within the slack), as
+    /// kerf.fmu.
     pub fn completed_integrator_step(&mut self) -> Res<(bool, bool)> {
         self.check_kind("fmi2CompletedIntegratorStep", Kind::ModelExchange)?;
         self.check(
@@ -729,13 +797,6 @@ impl HeadInstance {
             mask::COMPLETED_INTEGRATOR_STEP,
         )?;
         let motions = self.motions();
-        let head = self
-            .head
-            .as_ref()
-            .ok_or("fmi2CompletedIntegratorStep: no head")?;
-        let cuts = head
-            .cuts(&motions)
-            .map_err(|e| format!("fmi2CompletedIntegratorStep: {e}"))?;
         let o = self
             .outputs()
             .map_err(|e| format!("fmi2CompletedIntegratorStep: {e}"))?;
@@ -744,10 +805,13 @@ impl HeadInstance {
             .iter()
             .zip(&motions)
             .any(|(d, (_, t))| d.work_on_rock(t, 1.0) != 0.0);
-        if !(cuts || works) {
+        if !works {
+            // no work on the rock since the last event: the energy of the
+            // next commit counts from here
             self.last_commit_time = self.time;
         }
-        Ok((cuts || works, false))
+        let step = self.values.kerf.real(vr::NUMERICS_SWEEP_STEP);
+        Ok((self.event_indicator() <= EVENT_SLACK * step, false))
     }
 
     pub fn set_time(&mut self, t: f64) -> Res<Status> {

@@ -206,7 +206,7 @@ impl Values {
         }
     }
 
-    fn real(&self, r: u32) -> f64 {
+    pub(crate) fn real(&self, r: u32) -> f64 {
         self.real[md::position(md::REALS, r, |v| v.vr).expect("generated value reference")]
     }
 

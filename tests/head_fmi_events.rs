@@ -132,7 +132,7 @@ fn the_head_has_one_event_indicator_and_says_so() {
     let (h, _) = me_head("hev-count");
     let (s, _) = indicators(&h.fmu, 0);
     assert_eq!(s, ERROR);
-    assert!(h.fmu.last_error().contains("ni = 0, but the head has 1"));
+    assert!(h.fmu.last_error().contains("ni = 0, but the model has 1"));
 }
 
 #[test]

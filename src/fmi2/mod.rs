@@ -15,6 +15,7 @@
 //! independent and may run on different threads.
 
 mod api;
+mod generic;
 mod head;
 mod head_dispatch;
 pub mod head_md;

@@ -21,7 +21,7 @@ use std::path::Path;
 
 use crate::core::{ModelState, Pose};
 
-use super::instance::{Files, Kind, Mode, Res, Snapshot, Values};
+use super::instance::{DiscSnap, Files, Kind, Mode, Res, Snapshot, Values};
 use super::md;
 
 const MAGIC: &[u8; 8] = b"KERFFMU\0";
@@ -50,36 +50,35 @@ pub fn encode(s: &Snapshot) -> Vec<u8> {
         p.extend_from_slice(&v.to_le_bytes());
     }
     p.push(u8::from(s.event_committed));
-    p.push(u8::from(s.pose_inputs_set));
-    let q = &s.cs_pose;
-    for v in [
-        q.position.x,
-        q.position.y,
-        q.position.z,
-        q.yaw,
-        q.pitch,
-        q.roll,
-    ] {
+    p.push(u8::from(s.model.pose_inputs_set));
+    for v in pose_words(&s.model.cs_pose) {
         p.extend_from_slice(&v.to_le_bytes());
     }
-    put_u32(&mut p, s.values.real.len());
-    s.values
+    put_u32(&mut p, s.model.values.real.len());
+    s.model
+        .values
         .real
         .iter()
         .for_each(|v| p.extend_from_slice(&v.to_le_bytes()));
-    put_u32(&mut p, s.values.int.len());
-    s.values
+    put_u32(&mut p, s.model.values.int.len());
+    s.model
+        .values
         .int
         .iter()
         .for_each(|v| p.extend_from_slice(&v.to_le_bytes()));
-    put_u32(&mut p, s.values.boolean.len());
-    s.values.boolean.iter().for_each(|v| p.push(u8::from(*v)));
-    put_u32(&mut p, s.values.string.len());
-    s.values
+    put_u32(&mut p, s.model.values.boolean.len());
+    s.model
+        .values
+        .boolean
+        .iter()
+        .for_each(|v| p.push(u8::from(*v)));
+    put_u32(&mut p, s.model.values.string.len());
+    s.model
+        .values
         .string
         .iter()
         .for_each(|v| put_bytes(&mut p, v.as_bytes()));
-    match &s.model {
+    match &s.model.model {
         None => p.push(0),
         Some(m) => {
             p.push(1);
@@ -89,14 +88,63 @@ pub fn encode(s: &Snapshot) -> Vec<u8> {
         }
     }
 
-    let mut out = Vec::with_capacity(HEADER + p.len() + 8);
-    out.extend_from_slice(MAGIC);
-    out.extend_from_slice(&VERSION.to_le_bytes());
-    out.extend_from_slice(&(p.len() as u64).to_le_bytes());
-    out.extend_from_slice(&p);
+    frame(MAGIC, VERSION, &p)
+}
+
+/// A pose as the states write it: position, then yaw, pitch, roll.
+pub fn pose_words(q: &Pose) -> [f64; 6] {
+    [
+        q.position.x,
+        q.position.y,
+        q.position.z,
+        q.yaw,
+        q.pitch,
+        q.roll,
+    ]
+}
+
+/// The frame of every kerf FMU state (single disc or head): magic, format
+/// version, payload length, payload, FNV-1a checksum of all before it.
+pub fn frame(magic: &[u8; 8], version: u32, payload: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(HEADER + payload.len() + 8);
+    out.extend_from_slice(magic);
+    out.extend_from_slice(&version.to_le_bytes());
+    out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    out.extend_from_slice(payload);
     let sum = fnv1a64(&out);
     out.extend_from_slice(&sum.to_le_bytes());
     out
+}
+
+/// The payload of a [`frame`]d state, after checking its size, magic,
+/// version, length and checksum; `what` names the state in the errors
+/// ("kerf FMU state").
+pub fn unframe<'a>(bytes: &'a [u8], magic: &[u8; 8], version: u32, what: &str) -> Res<&'a [u8]> {
+    if bytes.len() < HEADER + 8 {
+        return Err(format!("{} bytes is too short for a {what}", bytes.len()));
+    }
+    if &bytes[..8] != magic {
+        return Err(format!("not a {what} (wrong magic)"));
+    }
+    let v = u32::from_le_bytes(bytes[8..12].try_into().unwrap());
+    if v != version {
+        return Err(format!(
+            "{what} version {v}; this FMU reads version {version}"
+        ));
+    }
+    let len = u64::from_le_bytes(bytes[12..20].try_into().unwrap());
+    if len != (bytes.len() - HEADER - 8) as u64 {
+        return Err(format!(
+            "the state's payload length {len} does not match its size ({} bytes): truncated or padded",
+            bytes.len()
+        ));
+    }
+    let body = &bytes[..bytes.len() - 8];
+    let sum = u64::from_le_bytes(bytes[bytes.len() - 8..].try_into().unwrap());
+    if fnv1a64(body) != sum {
+        return Err("checksum mismatch: the state is corrupt".into());
+    }
+    Ok(&body[HEADER..])
 }
 
 fn put_u32(p: &mut Vec<u8>, n: usize) {
@@ -166,36 +214,8 @@ impl<'a> Reader<'a> {
 /// surface paths of the parameters it holds (the core checks its own blob
 /// against them).
 pub fn decode(bytes: &[u8], resources: Option<&Path>) -> Res<Snapshot> {
-    if bytes.len() < HEADER + 8 {
-        return Err(format!(
-            "{} bytes is too short for a kerf FMU state",
-            bytes.len()
-        ));
-    }
-    if &bytes[..8] != MAGIC {
-        return Err("not a kerf FMU state (wrong magic)".into());
-    }
-    let version = u32::from_le_bytes(bytes[8..12].try_into().unwrap());
-    if version != VERSION {
-        return Err(format!(
-            "kerf FMU state version {version}; this FMU reads version {VERSION}"
-        ));
-    }
-    let len = u64::from_le_bytes(bytes[12..20].try_into().unwrap());
-    if len != (bytes.len() - HEADER - 8) as u64 {
-        return Err(format!(
-            "the state's payload length {len} does not match its size ({} bytes): truncated or padded",
-            bytes.len()
-        ));
-    }
-    let body = &bytes[..bytes.len() - 8];
-    let sum = u64::from_le_bytes(bytes[bytes.len() - 8..].try_into().unwrap());
-    if fnv1a64(body) != sum {
-        return Err("checksum mismatch: the state is corrupt".into());
-    }
-
     let mut r = Reader {
-        b: &body[HEADER..],
+        b: unframe(bytes, MAGIC, VERSION, "kerf FMU state")?,
         at: 0,
     };
     if r.bytes()? != md::GUID.as_bytes() {
@@ -280,14 +300,16 @@ pub fn decode(bytes: &[u8], resources: Option<&Path>) -> Res<Snapshot> {
     Ok(Snapshot {
         kind,
         mode,
-        values,
         start_time,
         time,
         last_commit_time,
         event_committed,
-        cs_pose,
-        pose_inputs_set,
-        model,
+        model: DiscSnap {
+            values,
+            cs_pose,
+            pose_inputs_set,
+            model,
+        },
         encoded: std::cell::OnceCell::new(),
     })
 }

@@ -89,6 +89,22 @@ pub struct Snapshot<S> {
     pub encoded: OnceCell<Vec<u8>>,
 }
 
+impl Snapshot<()> {
+    /// This instance part with the model's part.
+    pub fn with<S>(self, model: S) -> Snapshot<S> {
+        Snapshot {
+            kind: self.kind,
+            mode: self.mode,
+            start_time: self.start_time,
+            time: self.time,
+            last_commit_time: self.last_commit_time,
+            event_committed: self.event_committed,
+            model,
+            encoded: OnceCell::new(),
+        }
+    }
+}
+
 /// What a kerf model answers to the generic instance. Error strings are
 /// the part after "fmi2Function: " (or "fmi2GetReal(name): ").
 pub trait FmuModel {
@@ -350,46 +366,35 @@ impl<M: FmuModel> Fmi<M> {
         format!("{func}({name}): {e}")
     }
 
-    pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Res<Status> {
-        const F: &str = "fmi2GetReal";
-        self.check(F, mask::GET)?;
+    /// fmi2Get{Real,Integer,Boolean}: `get` gives one value (an output is
+    /// computed; its error is named after the variable).
+    fn get<T>(
+        &mut self,
+        func: &str,
+        class: Class,
+        vrs: &[u32],
+        out: &mut [T],
+        get: fn(&mut M, Ctx, u32) -> Res<T>,
+    ) -> Res<Status> {
+        self.check(func, mask::GET)?;
         let cx = self.cx();
         for (o, &r) in out.iter_mut().zip(vrs) {
-            self.var(F, Class::Real, r)?;
-            *o = self
-                .model
-                .get_real(cx, r)
-                .map_err(|e| self.named(F, Class::Real, r, e))?;
+            self.var(func, class, r)?;
+            *o = get(&mut self.model, cx, r).map_err(|e| self.named(func, class, r, e))?;
         }
         Ok(Status::Ok)
+    }
+
+    pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Res<Status> {
+        self.get("fmi2GetReal", Class::Real, vrs, out, M::get_real)
     }
 
     pub fn get_integer(&mut self, vrs: &[u32], out: &mut [i32]) -> Res<Status> {
-        const F: &str = "fmi2GetInteger";
-        self.check(F, mask::GET)?;
-        let cx = self.cx();
-        for (o, &r) in out.iter_mut().zip(vrs) {
-            self.var(F, Class::Integer, r)?;
-            *o = self
-                .model
-                .get_integer(cx, r)
-                .map_err(|e| self.named(F, Class::Integer, r, e))?;
-        }
-        Ok(Status::Ok)
+        self.get("fmi2GetInteger", Class::Integer, vrs, out, M::get_integer)
     }
 
     pub fn get_boolean(&mut self, vrs: &[u32], out: &mut [bool]) -> Res<Status> {
-        const F: &str = "fmi2GetBoolean";
-        self.check(F, mask::GET)?;
-        let cx = self.cx();
-        for (o, &r) in out.iter_mut().zip(vrs) {
-            self.var(F, Class::Boolean, r)?;
-            *o = self
-                .model
-                .get_boolean(cx, r)
-                .map_err(|e| self.named(F, Class::Boolean, r, e))?;
-        }
-        Ok(Status::Ok)
+        self.get("fmi2GetBoolean", Class::Boolean, vrs, out, M::get_boolean)
     }
 
     /// The strings stay owned by the instance (valid until they are set again

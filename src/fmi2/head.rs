@@ -5,7 +5,6 @@
 //!
 //! Safe Rust only, like `instance.rs`.
 
-use std::cell::OnceCell;
 use std::collections::HashMap;
 use std::ffi::{CStr, CString};
 use std::path::{Path, PathBuf};
@@ -20,7 +19,7 @@ use super::head_md::{self, HeadVar, Slot, Ty};
 use super::instance::{Files, Kind, Mode, Res, Values};
 use super::log::Logger;
 use super::md::{self, vr};
-use super::state::{frame, pose_words, unframe, Reader};
+use super::state::{frame, pose_words, put_header, read_header, unframe, Reader};
 
 /// Values of everything settable: kerf's table for the shared parameters,
 /// the head inputs, the per-disc parameters and inputs.
@@ -552,15 +551,7 @@ impl FmuModel for HeadModel {
         let put_u = |p: &mut Vec<u8>, x: u64| p.extend_from_slice(&x.to_le_bytes());
         put_u(&mut p, self.guid.len() as u64);
         p.extend_from_slice(self.guid.as_bytes());
-        p.push(match s.kind {
-            Kind::ModelExchange => 0,
-            Kind::CoSimulation => 1,
-        });
-        p.push(s.mode.to_u8());
-        for x in [s.start_time, s.time, s.last_commit_time] {
-            put_f(&mut p, x);
-        }
-        p.push(u8::from(s.event_committed));
+        put_header(&mut p, s);
         let v = &s.model.values;
         put_u(&mut p, v.kerf.real.len() as u64);
         v.kerf.real.iter().for_each(|&x| put_f(&mut p, x));
@@ -613,16 +604,7 @@ impl FmuModel for HeadModel {
         if guid != self.guid.as_bytes() {
             return Err("the state belongs to another FMU (GUID)".into());
         }
-        let kind = match r.u8()? {
-            0 => Kind::ModelExchange,
-            1 => Kind::CoSimulation,
-            _ => return Err("bad interface type".into()),
-        };
-        let mode = Mode::from_u8(r.u8()?)
-            .filter(|m| m.fits(kind))
-            .ok_or("bad mode")?;
-        let (start_time, time, last_commit_time) = (r.f64()?, r.f64()?, r.f64()?);
-        let event_committed = r.u8()? != 0;
+        let header = read_header(&mut r)?;
         let mut values = self.start_values.clone();
         let expect = |r: &mut Reader, n: usize| -> Res<()> {
             if r.u64()? as usize != n {
@@ -683,23 +665,13 @@ impl FmuModel for HeadModel {
         if r.at != r.b.len() {
             return Err("trailing bytes".into());
         }
-        let cs_head = poses[0];
-        Ok(HeadSnapshot {
-            kind,
-            mode,
-            start_time,
-            time,
-            last_commit_time,
-            event_committed,
-            model: HeadSnap {
-                values,
-                cs_head,
-                cs_discs: poses[1..].to_vec(),
-                pose_set,
-                head,
-            },
-            encoded: OnceCell::new(),
-        })
+        Ok(header.with(HeadSnap {
+            values,
+            cs_head: poses[0],
+            cs_discs: poses[1..].to_vec(),
+            pose_set,
+            head,
+        }))
     }
 }
 

@@ -21,6 +21,7 @@ use std::path::Path;
 
 use crate::core::{ModelState, Pose};
 
+use super::generic;
 use super::instance::{DiscSnap, Files, Kind, Mode, Res, Snapshot, Values};
 use super::md;
 
@@ -41,15 +42,7 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
 pub fn encode(s: &Snapshot) -> Vec<u8> {
     let mut p = Vec::new();
     put_bytes(&mut p, md::GUID.as_bytes());
-    p.push(match s.kind {
-        Kind::ModelExchange => 0,
-        Kind::CoSimulation => 1,
-    });
-    p.push(s.mode.to_u8());
-    for v in [s.start_time, s.time, s.last_commit_time] {
-        p.extend_from_slice(&v.to_le_bytes());
-    }
-    p.push(u8::from(s.event_committed));
+    put_header(&mut p, s);
     p.push(u8::from(s.model.pose_inputs_set));
     for v in pose_words(&s.model.cs_pose) {
         p.extend_from_slice(&v.to_le_bytes());
@@ -101,6 +94,42 @@ pub fn pose_words(q: &Pose) -> [f64; 6] {
         q.pitch,
         q.roll,
     ]
+}
+
+/// The instance's part of a state (after the GUID): interface type, mode,
+/// start time, time, last commit time, event committed.
+pub fn put_header<S>(p: &mut Vec<u8>, s: &generic::Snapshot<S>) {
+    p.push(match s.kind {
+        Kind::ModelExchange => 0,
+        Kind::CoSimulation => 1,
+    });
+    p.push(s.mode.to_u8());
+    for v in [s.start_time, s.time, s.last_commit_time] {
+        p.extend_from_slice(&v.to_le_bytes());
+    }
+    p.push(u8::from(s.event_committed));
+}
+
+/// Inverse of [`put_header`].
+pub fn read_header(r: &mut Reader) -> Res<generic::Snapshot<()>> {
+    let kind = match r.u8()? {
+        0 => Kind::ModelExchange,
+        1 => Kind::CoSimulation,
+        v => return Err(format!("unknown interface type {v}")),
+    };
+    let mode = Mode::from_u8(r.u8()?)
+        .filter(|m| m.fits(kind))
+        .ok_or("invalid mode")?;
+    Ok(generic::Snapshot {
+        kind,
+        mode,
+        start_time: r.f64()?,
+        time: r.f64()?,
+        last_commit_time: r.f64()?,
+        event_committed: r.flag("eventCommitted")?,
+        model: (),
+        encoded: std::cell::OnceCell::new(),
+    })
 }
 
 /// The frame of every kerf FMU state (single disc or head): magic, format
@@ -221,25 +250,14 @@ pub fn decode(bytes: &[u8], resources: Option<&Path>) -> Res<Snapshot> {
     if r.bytes()? != md::GUID.as_bytes() {
         return Err("the state belongs to another FMU (GUID differs)".into());
     }
-    let kind = match r.u8()? {
-        0 => Kind::ModelExchange,
-        1 => Kind::CoSimulation,
-        v => return Err(format!("unknown interface type {v}")),
-    };
-    let mode = Mode::from_u8(r.u8()?)
-        .filter(|m| m.fits(kind))
-        .ok_or("invalid mode")?;
-    let start_time = r.f64()?;
-    let time = r.f64()?;
-    let last_commit_time = r.f64()?;
-    let event_committed = r.flag("eventCommitted")?;
+    let header = read_header(&mut r)?;
     let pose_inputs_set = r.flag("poseInputsSet")?;
     let mut q = [0.0; 6];
     for v in &mut q {
         *v = r.f64()?;
     }
     let cs_pose = Pose::new(q[0], q[1], q[2], q[3], q[4], q[5]);
-    if ![start_time, time, last_commit_time]
+    if ![header.start_time, header.time, header.last_commit_time]
         .iter()
         .chain(q.iter())
         .all(|v| v.is_finite())
@@ -286,7 +304,7 @@ pub fn decode(bytes: &[u8], resources: Option<&Path>) -> Res<Snapshot> {
         params.validate().map_err(|e| e.to_string())?;
         Some(ModelState::from_bytes(blob, &params).map_err(|e| e.to_string())?)
     } else {
-        if !matches!(mode, Mode::Instantiated | Mode::InitializationMode) {
+        if !matches!(header.mode, Mode::Instantiated | Mode::InitializationMode) {
             return Err("an initialized state without the model's state".into());
         }
         None
@@ -297,19 +315,10 @@ pub fn decode(bytes: &[u8], resources: Option<&Path>) -> Res<Snapshot> {
             r.b.len() - r.at
         ));
     }
-    Ok(Snapshot {
-        kind,
-        mode,
-        start_time,
-        time,
-        last_commit_time,
-        event_committed,
-        model: DiscSnap {
-            values,
-            cs_pose,
-            pose_inputs_set,
-            model,
-        },
-        encoded: std::cell::OnceCell::new(),
-    })
+    Ok(header.with(DiscSnap {
+        values,
+        cs_pose,
+        pose_inputs_set,
+        model,
+    }))
 }

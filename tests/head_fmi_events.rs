@@ -10,7 +10,6 @@ mod support;
 use fmi_sys::fmi2::*;
 use kerf::core::head::Drive;
 use kerf::core::layout;
-use kerf::fmi2 as f;
 use kerf::fmi2::head_md;
 use support::*;
 
@@ -85,29 +84,17 @@ impl Head {
 }
 
 fn indicators(fmu: &Fmu, ni: usize) -> (fmi2Status, Vec<f64>) {
-    let mut z = vec![f64::NAN; ni.max(1)];
-    let s = unsafe { f::fmi2GetEventIndicators(fmu.c, z.as_mut_ptr(), ni) };
-    (s, z)
+    fmu.event_indicators(ni)
 }
 
 fn indicator(fmu: &Fmu) -> f64 {
-    let (s, z) = indicators(fmu, 1);
-    assert_eq!(s, OK, "{:?}", fmu.errors());
-    z[0]
+    fmu.event_indicator()
 }
 
-/// One event: NewDiscreteStates until none is needed; returns nextEventTime.
+/// One event from continuous-time mode; returns nextEventTime.
 fn event(fmu: &Fmu) -> Option<f64> {
     assert_eq!(fmu.enter_event_mode(), OK);
-    let next = loop {
-        let (s, e) = fmu.new_discrete_states();
-        assert_eq!(s, OK, "{:?}", fmu.errors());
-        if e.newDiscreteStatesNeeded == 0 {
-            break (e.nextEventTimeDefined != 0).then_some(e.nextEventTime);
-        }
-    };
-    assert_eq!(fmu.enter_ct_mode(), OK);
-    next
+    fmu.event_iteration_next()
 }
 
 /// An initialized ME head at t = 0, through its initial event.
@@ -115,14 +102,7 @@ fn me_head(name: &str) -> (Head, Option<f64>) {
     let h = Head::new(name, Kind::Me);
     h.motion(0.0);
     h.fmu.init();
-    let next = loop {
-        let (s, e) = h.fmu.new_discrete_states();
-        assert_eq!(s, OK, "{:?}", h.fmu.errors());
-        if e.newDiscreteStatesNeeded == 0 {
-            break (e.nextEventTimeDefined != 0).then_some(e.nextEventTime);
-        }
-    };
-    assert_eq!(h.fmu.enter_ct_mode(), OK);
+    let next = h.fmu.event_iteration_next();
     (h, next)
 }
 

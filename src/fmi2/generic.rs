@@ -440,60 +440,66 @@ impl<M: FmuModel> Fmi<M> {
         }
     }
 
-    /// All-or-nothing: checks every value first, then sets them (two passes
-    /// over the host's arrays: nothing is allocated from `nvr`).
-    pub fn set_real(&mut self, vrs: &[u32], vals: &[f64]) -> Res<Status> {
-        const F: &str = "fmi2SetReal";
-        self.check(F, mask::SET_REAL)?;
+    /// fmi2Set{Real,Integer,Boolean}, all-or-nothing: checks every value
+    /// first (`ok`: the value's own check), then sets them with `set` (two
+    /// passes over the host's arrays: nothing is allocated from `nvr`).
+    #[allow(clippy::too_many_arguments)]
+    fn set<T: Copy>(
+        &mut self,
+        func: &str,
+        mask: u32,
+        class: Class,
+        vrs: &[u32],
+        vals: &[T],
+        ok: fn(&str, &VarInfo, T) -> Res<()>,
+        set: fn(&mut M, u32, T),
+    ) -> Res<Status> {
+        self.check(func, mask)?;
         for (&r, &x) in vrs.iter().zip(vals) {
-            let v = self.var(F, Class::Real, r)?;
-            self.settable(F, &v, true)?;
-            if !x.is_finite() {
-                return Err(format!(
-                    "{F}: {} = {x} is not finite; the value was not set",
-                    v.name
-                ));
-            }
+            let v = self.var(func, class, r)?;
+            // only Reals are continuous inputs
+            self.settable(func, &v, class == Class::Real)?;
+            ok(func, &v, x)?;
         }
         for (&r, &x) in vrs.iter().zip(vals) {
-            self.model.set_real(r, x);
+            set(&mut self.model, r, x);
         }
         Ok(Status::Ok)
     }
 
-    pub fn set_integer(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status> {
-        const F: &str = "fmi2SetInteger";
-        self.check(F, mask::SET_OTHER)?;
-        for (&r, &x) in vrs.iter().zip(vals) {
-            let v = self.var(F, Class::Integer, r)?;
-            self.settable(F, &v, false)?;
-            if let Some(items) = v.items {
-                if !items.contains(&x) {
-                    return Err(format!(
-                        "{F}: {} = {x} is not an item of its enumeration {items:?}",
-                        v.name
-                    ));
-                }
+    pub fn set_real(&mut self, vrs: &[u32], vals: &[f64]) -> Res<Status> {
+        let finite = |f: &str, v: &VarInfo, x: f64| {
+            if x.is_finite() {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{f}: {} = {x} is not finite; the value was not set",
+                    v.name
+                ))
             }
-        }
-        for (&r, &x) in vrs.iter().zip(vals) {
-            self.model.set_integer(r, x);
-        }
-        Ok(Status::Ok)
+        };
+        let (m, c) = (mask::SET_REAL, Class::Real);
+        self.set("fmi2SetReal", m, c, vrs, vals, finite, M::set_real)
+    }
+
+    pub fn set_integer(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status> {
+        let item = |f: &str, v: &VarInfo, x: i32| match v.items {
+            Some(items) if !items.contains(&x) => Err(format!(
+                "{f}: {} = {x} is not an item of its enumeration {items:?}",
+                v.name
+            )),
+            _ => Ok(()),
+        };
+        let (m, c) = (mask::SET_OTHER, Class::Integer);
+        self.set("fmi2SetInteger", m, c, vrs, vals, item, M::set_integer)
     }
 
     /// `vals`: fmi2Boolean values (0 is false).
     pub fn set_boolean(&mut self, vrs: &[u32], vals: &[i32]) -> Res<Status> {
-        const F: &str = "fmi2SetBoolean";
-        self.check(F, mask::SET_OTHER)?;
-        for &r in vrs {
-            let v = self.var(F, Class::Boolean, r)?;
-            self.settable(F, &v, false)?;
-        }
-        for (&r, &x) in vrs.iter().zip(vals) {
-            self.model.set_boolean(r, x != 0);
-        }
-        Ok(Status::Ok)
+        let any = |_: &str, _: &VarInfo, _: i32| Ok(());
+        let set = |m: &mut M, r: u32, x: i32| m.set_boolean(r, x != 0);
+        let (m, c) = (mask::SET_OTHER, Class::Boolean);
+        self.set("fmi2SetBoolean", m, c, vrs, vals, any, set)
     }
 
     /// `val(k)`: the k-th value (`None`: the host passed NULL).

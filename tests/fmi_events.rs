@@ -9,22 +9,17 @@
 mod support;
 
 use fmi_sys::fmi2::*;
-use kerf::fmi2 as f;
 use support::*;
 
 const SWEEP: f64 = 1e-3; // numerics.sweepStep start value
 const V: f64 = 1.0; // rolling speed [m/s]
 
 fn indicators(fmu: &Fmu, ni: usize) -> (fmi2Status, Vec<f64>) {
-    let mut z = vec![f64::NAN; ni.max(1)];
-    let s = unsafe { f::fmi2GetEventIndicators(fmu.c, z.as_mut_ptr(), ni) };
-    (s, z)
+    fmu.event_indicators(ni)
 }
 
 fn indicator(fmu: &Fmu) -> f64 {
-    let (s, z) = indicators(fmu, 1);
-    assert_eq!(s, OK, "{:?}", fmu.errors());
-    z[0]
+    fmu.event_indicator()
 }
 
 /// The rolling cut's inputs at time t (x = V t, rolling without slip).
@@ -38,15 +33,7 @@ fn roll_to(fmu: &Fmu, t: f64) {
 
 /// One event: NewDiscreteStates until none is needed; returns nextEventTime.
 fn event(fmu: &Fmu) -> Option<f64> {
-    let next = loop {
-        let (s, e) = fmu.new_discrete_states();
-        assert_eq!(s, OK, "{:?}", fmu.errors());
-        if e.newDiscreteStatesNeeded == 0 {
-            break (e.nextEventTimeDefined != 0).then_some(e.nextEventTime);
-        }
-    };
-    assert_eq!(fmu.enter_ct_mode(), OK);
-    next
+    fmu.event_iteration_next()
 }
 
 /// A Model Exchange instance on the small rock, rolling from x = 0,

@@ -266,14 +266,31 @@ impl Fmu {
     /// The event iteration of a host: NewDiscreteStates until none is needed,
     /// then back to continuous-time mode.
     pub fn event_iteration(&self) {
-        loop {
+        self.event_iteration_next();
+    }
+    /// fmi2GetEventIndicators with `ni` (the array holds at least one).
+    pub fn event_indicators(&self, ni: usize) -> (fmi2Status, Vec<f64>) {
+        let mut z = vec![f64::NAN; ni.max(1)];
+        let s = unsafe { f::fmi2GetEventIndicators(self.c, z.as_mut_ptr(), ni) };
+        (s, z)
+    }
+    /// The one event indicator, which must be readable.
+    pub fn event_indicator(&self) -> f64 {
+        let (s, z) = self.event_indicators(1);
+        assert_eq!(s, OK, "{:?}", self.errors());
+        z[0]
+    }
+    /// [`Fmu::event_iteration`]; returns nextEventTime.
+    pub fn event_iteration_next(&self) -> Option<f64> {
+        let next = loop {
             let (s, e) = self.new_discrete_states();
             assert_eq!(s, OK, "{:?}", self.errors());
             if e.newDiscreteStatesNeeded == 0 {
-                break;
+                break (e.nextEventTimeDefined != 0).then_some(e.nextEventTime);
             }
-        }
+        };
         assert_eq!(self.enter_ct_mode(), OK);
+        next
     }
 
     pub fn get_state(&self) -> fmi2FMUstate {

@@ -318,6 +318,25 @@ impl Head {
         &self.state.face.map
     }
 
+    /// The largest rim travel ([`super::model::rim_travel`]) of any disc from
+    /// its last cut to its pose in `motions` (Model Exchange's event
+    /// indicator counts it); `None` before the first cut. Changes nothing.
+    pub fn travel_since_cut(&self, motions: &[(Pose, Twist)]) -> Option<f64> {
+        self.state
+            .discs
+            .iter()
+            .zip(motions)
+            .zip(&self.specs)
+            .filter_map(|((s, (pose, _)), spec)| {
+                Some(super::model::rim_travel(
+                    &s.last_cut?,
+                    pose,
+                    spec.cutter.radius,
+                ))
+            })
+            .reduce(f64::max)
+    }
+
     /// Every disc's pose and twist (rock frame) for the head at `head`
     /// moving with `twist`: the disc frame follows its mount; the disc spins
     /// freely about its axle so that its tip rolls without slip.

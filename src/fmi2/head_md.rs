@@ -278,6 +278,11 @@ pub const INPUT_BASE: usize = 10;
 pub const OUTPUT_BASE: usize = 30;
 pub const IN_CONTACT: usize = 50;
 
+/// `numberOfEventIndicators` of every head FMU: one, kerf.fmu's cut event
+/// over all discs (`numerics.sweepStep` minus the largest rim travel of any
+/// disc since the last committed cut; `src/fmi2/head.rs`).
+pub const NUMBER_OF_EVENT_INDICATORS: usize = 1;
+
 fn fmt(x: f64) -> String {
     // shortest round-trip form, as Rust prints f64
     format!("{x:?}")

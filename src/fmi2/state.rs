@@ -21,7 +21,8 @@ use std::path::Path;
 
 use crate::core::{ModelState, Pose};
 
-use super::instance::{Files, Kind, Mode, Res, Snapshot, Values};
+use super::generic;
+use super::instance::{DiscSnap, Files, Kind, Mode, Res, Snapshot, Values};
 use super::md;
 
 const MAGIC: &[u8; 8] = b"KERFFMU\0";
@@ -41,45 +42,36 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
 pub fn encode(s: &Snapshot) -> Vec<u8> {
     let mut p = Vec::new();
     put_bytes(&mut p, md::GUID.as_bytes());
-    p.push(match s.kind {
-        Kind::ModelExchange => 0,
-        Kind::CoSimulation => 1,
-    });
-    p.push(s.mode.to_u8());
-    for v in [s.start_time, s.time, s.last_commit_time] {
+    put_header(&mut p, s);
+    p.push(u8::from(s.model.pose_inputs_set));
+    for v in pose_words(&s.model.cs_pose) {
         p.extend_from_slice(&v.to_le_bytes());
     }
-    p.push(u8::from(s.event_committed));
-    p.push(u8::from(s.pose_inputs_set));
-    let q = &s.cs_pose;
-    for v in [
-        q.position.x,
-        q.position.y,
-        q.position.z,
-        q.yaw,
-        q.pitch,
-        q.roll,
-    ] {
-        p.extend_from_slice(&v.to_le_bytes());
-    }
-    put_u32(&mut p, s.values.real.len());
-    s.values
+    put_u32(&mut p, s.model.values.real.len());
+    s.model
+        .values
         .real
         .iter()
         .for_each(|v| p.extend_from_slice(&v.to_le_bytes()));
-    put_u32(&mut p, s.values.int.len());
-    s.values
+    put_u32(&mut p, s.model.values.int.len());
+    s.model
+        .values
         .int
         .iter()
         .for_each(|v| p.extend_from_slice(&v.to_le_bytes()));
-    put_u32(&mut p, s.values.boolean.len());
-    s.values.boolean.iter().for_each(|v| p.push(u8::from(*v)));
-    put_u32(&mut p, s.values.string.len());
-    s.values
+    put_u32(&mut p, s.model.values.boolean.len());
+    s.model
+        .values
+        .boolean
+        .iter()
+        .for_each(|v| p.push(u8::from(*v)));
+    put_u32(&mut p, s.model.values.string.len());
+    s.model
+        .values
         .string
         .iter()
         .for_each(|v| put_bytes(&mut p, v.as_bytes()));
-    match &s.model {
+    match &s.model.model {
         None => p.push(0),
         Some(m) => {
             p.push(1);
@@ -89,14 +81,99 @@ pub fn encode(s: &Snapshot) -> Vec<u8> {
         }
     }
 
-    let mut out = Vec::with_capacity(HEADER + p.len() + 8);
-    out.extend_from_slice(MAGIC);
-    out.extend_from_slice(&VERSION.to_le_bytes());
-    out.extend_from_slice(&(p.len() as u64).to_le_bytes());
-    out.extend_from_slice(&p);
+    frame(MAGIC, VERSION, &p)
+}
+
+/// A pose as the states write it: position, then yaw, pitch, roll.
+pub fn pose_words(q: &Pose) -> [f64; 6] {
+    [
+        q.position.x,
+        q.position.y,
+        q.position.z,
+        q.yaw,
+        q.pitch,
+        q.roll,
+    ]
+}
+
+/// The instance's part of a state (after the GUID): interface type, mode,
+/// start time, time, last commit time, event committed.
+pub fn put_header<S>(p: &mut Vec<u8>, s: &generic::Snapshot<S>) {
+    p.push(match s.kind {
+        Kind::ModelExchange => 0,
+        Kind::CoSimulation => 1,
+    });
+    p.push(s.mode.to_u8());
+    for v in [s.start_time, s.time, s.last_commit_time] {
+        p.extend_from_slice(&v.to_le_bytes());
+    }
+    p.push(u8::from(s.event_committed));
+}
+
+/// Inverse of [`put_header`].
+pub fn read_header(r: &mut Reader) -> Res<generic::Snapshot<()>> {
+    let kind = match r.u8()? {
+        0 => Kind::ModelExchange,
+        1 => Kind::CoSimulation,
+        v => return Err(format!("unknown interface type {v}")),
+    };
+    let mode = Mode::from_u8(r.u8()?)
+        .filter(|m| m.fits(kind))
+        .ok_or("invalid mode")?;
+    Ok(generic::Snapshot {
+        kind,
+        mode,
+        start_time: r.f64()?,
+        time: r.f64()?,
+        last_commit_time: r.f64()?,
+        event_committed: r.flag("eventCommitted")?,
+        model: (),
+        encoded: std::cell::OnceCell::new(),
+    })
+}
+
+/// The frame of every kerf FMU state (single disc or head): magic, format
+/// version, payload length, payload, FNV-1a checksum of all before it.
+pub fn frame(magic: &[u8; 8], version: u32, payload: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(HEADER + payload.len() + 8);
+    out.extend_from_slice(magic);
+    out.extend_from_slice(&version.to_le_bytes());
+    out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    out.extend_from_slice(payload);
     let sum = fnv1a64(&out);
     out.extend_from_slice(&sum.to_le_bytes());
     out
+}
+
+/// The payload of a [`frame`]d state, after checking its size, magic,
+/// version, length and checksum; `what` names the state in the errors
+/// ("kerf FMU state").
+pub fn unframe<'a>(bytes: &'a [u8], magic: &[u8; 8], version: u32, what: &str) -> Res<&'a [u8]> {
+    if bytes.len() < HEADER + 8 {
+        return Err(format!("{} bytes is too short for a {what}", bytes.len()));
+    }
+    if &bytes[..8] != magic {
+        return Err(format!("not a {what} (wrong magic)"));
+    }
+    let v = u32::from_le_bytes(bytes[8..12].try_into().unwrap());
+    if v != version {
+        return Err(format!(
+            "{what} version {v}; this FMU reads version {version}"
+        ));
+    }
+    let len = u64::from_le_bytes(bytes[12..20].try_into().unwrap());
+    if len != (bytes.len() - HEADER - 8) as u64 {
+        return Err(format!(
+            "the state's payload length {len} does not match its size ({} bytes): truncated or padded",
+            bytes.len()
+        ));
+    }
+    let body = &bytes[..bytes.len() - 8];
+    let sum = u64::from_le_bytes(bytes[bytes.len() - 8..].try_into().unwrap());
+    if fnv1a64(body) != sum {
+        return Err("checksum mismatch: the state is corrupt".into());
+    }
+    Ok(&body[HEADER..])
 }
 
 fn put_u32(p: &mut Vec<u8>, n: usize) {
@@ -166,60 +243,21 @@ impl<'a> Reader<'a> {
 /// surface paths of the parameters it holds (the core checks its own blob
 /// against them).
 pub fn decode(bytes: &[u8], resources: Option<&Path>) -> Res<Snapshot> {
-    if bytes.len() < HEADER + 8 {
-        return Err(format!(
-            "{} bytes is too short for a kerf FMU state",
-            bytes.len()
-        ));
-    }
-    if &bytes[..8] != MAGIC {
-        return Err("not a kerf FMU state (wrong magic)".into());
-    }
-    let version = u32::from_le_bytes(bytes[8..12].try_into().unwrap());
-    if version != VERSION {
-        return Err(format!(
-            "kerf FMU state version {version}; this FMU reads version {VERSION}"
-        ));
-    }
-    let len = u64::from_le_bytes(bytes[12..20].try_into().unwrap());
-    if len != (bytes.len() - HEADER - 8) as u64 {
-        return Err(format!(
-            "the state's payload length {len} does not match its size ({} bytes): truncated or padded",
-            bytes.len()
-        ));
-    }
-    let body = &bytes[..bytes.len() - 8];
-    let sum = u64::from_le_bytes(bytes[bytes.len() - 8..].try_into().unwrap());
-    if fnv1a64(body) != sum {
-        return Err("checksum mismatch: the state is corrupt".into());
-    }
-
     let mut r = Reader {
-        b: &body[HEADER..],
+        b: unframe(bytes, MAGIC, VERSION, "kerf FMU state")?,
         at: 0,
     };
     if r.bytes()? != md::GUID.as_bytes() {
         return Err("the state belongs to another FMU (GUID differs)".into());
     }
-    let kind = match r.u8()? {
-        0 => Kind::ModelExchange,
-        1 => Kind::CoSimulation,
-        v => return Err(format!("unknown interface type {v}")),
-    };
-    let mode = Mode::from_u8(r.u8()?)
-        .filter(|m| m.fits(kind))
-        .ok_or("invalid mode")?;
-    let start_time = r.f64()?;
-    let time = r.f64()?;
-    let last_commit_time = r.f64()?;
-    let event_committed = r.flag("eventCommitted")?;
+    let header = read_header(&mut r)?;
     let pose_inputs_set = r.flag("poseInputsSet")?;
     let mut q = [0.0; 6];
     for v in &mut q {
         *v = r.f64()?;
     }
     let cs_pose = Pose::new(q[0], q[1], q[2], q[3], q[4], q[5]);
-    if ![start_time, time, last_commit_time]
+    if ![header.start_time, header.time, header.last_commit_time]
         .iter()
         .chain(q.iter())
         .all(|v| v.is_finite())
@@ -266,7 +304,7 @@ pub fn decode(bytes: &[u8], resources: Option<&Path>) -> Res<Snapshot> {
         params.validate().map_err(|e| e.to_string())?;
         Some(ModelState::from_bytes(blob, &params).map_err(|e| e.to_string())?)
     } else {
-        if !matches!(mode, Mode::Instantiated | Mode::InitializationMode) {
+        if !matches!(header.mode, Mode::Instantiated | Mode::InitializationMode) {
             return Err("an initialized state without the model's state".into());
         }
         None
@@ -277,17 +315,10 @@ pub fn decode(bytes: &[u8], resources: Option<&Path>) -> Res<Snapshot> {
             r.b.len() - r.at
         ));
     }
-    Ok(Snapshot {
-        kind,
-        mode,
+    Ok(header.with(DiscSnap {
         values,
-        start_time,
-        time,
-        last_commit_time,
-        event_committed,
         cs_pose,
         pose_inputs_set,
         model,
-        encoded: std::cell::OnceCell::new(),
-    })
+    }))
 }

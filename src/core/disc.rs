@@ -23,7 +23,7 @@ use super::cutter::PosedDisc;
 use super::error::Result;
 use super::face::Face;
 use super::heightmap::HeightMap;
-use super::model::{check_interval, friction_force, Outputs};
+use super::model::{check_interval, friction_force, steps_for, Outputs};
 use super::params::{CsmParams, CutterParams, DirectionRule, Params};
 use super::pose::{Pose, Twist};
 
@@ -321,10 +321,13 @@ pub fn commit_paths(
 
 /// Moves the discs along their paths for `h` seconds and cuts the face along
 /// the whole of them (a Co-Simulation step): `path(t)` gives every disc's
-/// pose and twist at time `t` in `[0, h]` (`path(0)` the start), cut at the
-/// `n` sub-steps `t = h k / n`, discs in order within a sub-step. The
-/// cutting energy takes the trapezoidal rule over the step for each disc.
-/// Returns the motions at `t = h`.
+/// pose and twist at time `t` in `[0, h]` (`path(0)` the start). Disc `i`
+/// is cut at its own `counts[i]` sub-steps `t = h k / counts[i]` (the
+/// count [`sub_steps`] gives it: a disc near the axis moves a fraction of
+/// the gauge's way and takes fewer cuts); the cuts are committed in time
+/// order, discs in layout order at equal times, a fixed order. The cutting
+/// energy takes the trapezoidal rule over the step for each disc. Returns
+/// the motions at `t = h`.
 #[allow(clippy::too_many_arguments)]
 pub fn sweep(
     face: &mut Face,
@@ -333,7 +336,7 @@ pub fn sweep(
     params: &Params,
     start: &[(Pose, Twist)],
     h: f64,
-    n: usize,
+    counts: &[usize],
     path: impl Fn(f64) -> Result<Vec<(Pose, Twist)>>,
 ) -> Result<Vec<(Pose, Twist)>> {
     // at the start of the run (nothing cut yet) a disc's start pose is cut
@@ -364,14 +367,26 @@ pub fn sweep(
             }
         }
     }
+    // every disc's cut times k / n as (k, n, disc), in time order (exact:
+    // k1 / n1 < k2 / n2 <=> k1 n2 < k2 n1), ties in layout order
+    let mut cuts: Vec<(usize, usize, usize)> = counts
+        .iter()
+        .enumerate()
+        .flat_map(|(i, &n)| (1..=n).map(move |k| (k, n, i)))
+        .collect();
+    cuts.sort_by(|a, b| (a.0 * b.1).cmp(&(b.0 * a.1)).then(a.2.cmp(&b.2)));
     let mut end = start.to_vec();
-    for k in 1..=n {
-        end = path(h * k as f64 / n as f64)?;
-        for (i, (pose, _)) in end.iter().enumerate() {
-            pose.validate()?;
-            discs[i].cut_at(face, &mut states[i], pose, params);
+    let mut at: Option<(usize, usize)> = None;
+    for (k, n, i) in cuts {
+        if at.is_none_or(|(k0, n0)| k0 * n != k * n0) {
+            end = path(h * k as f64 / n as f64)?;
+            at = Some((k, n));
         }
+        let pose = &end[i].0;
+        pose.validate()?;
+        discs[i].cut_at(face, &mut states[i], pose, params);
     }
+    // the last time is k / n = 1 for every disc: `end` holds the motions at h
     discs.iter().for_each(Disc::forget);
     let o1 = evaluate_all(discs, &face.map, &end, params);
     for i in 0..discs.len() {
@@ -392,7 +407,5 @@ pub fn sub_steps(pose: &Pose, twist: &Twist, radius: f64, h: f64, params: &Param
     let axle = rot * Vector3::y();
     let w_frame = twist.omega - axle * twist.omega.dot(&axle);
     let travel = (twist.velocity.norm() + w_frame.norm() * radius) * h;
-    (travel / params.numerics.sweep_step)
-        .ceil()
-        .clamp(1.0, 1.0e7) as usize
+    steps_for(travel, params.numerics.sweep_step).min(1.0e7) as usize
 }

@@ -451,18 +451,9 @@ impl Head {
         check_step(h)?;
         start.validate()?;
         twist.validate()?;
-        let w = twist.omega.norm();
-        let v = twist.velocity.norm();
-        let reach = self
-            .specs
-            .iter()
-            .map(|s| s.centre().norm() + s.cutter.radius)
-            .fold(0.0, f64::max);
-        let n = ((v + w * reach) * h / self.params.numerics.sweep_step)
-            .ceil()
-            .clamp(1.0, 1.0e7) as usize;
         let motions0 = self.place(start, twist);
         self.check_motions(&motions0)?;
+        let counts = self.sub_step_counts(&motions0, h);
         let specs = self.specs.clone();
         sweep(
             &mut self.state.face,
@@ -471,10 +462,20 @@ impl Head {
             &self.params,
             &motions0,
             h,
-            n,
+            &counts,
             |t| Ok(place_all(&specs, &advance_rigid(start, twist, t), twist)),
         )?;
         Ok(advance_rigid(start, twist, h))
+    }
+
+    /// Each disc's sub-steps over a step of `h` from `motions` (its twist is
+    /// constant over the step, on the rigid head as in the disc drive).
+    fn sub_step_counts(&self, motions: &[(Pose, Twist)], h: f64) -> Vec<usize> {
+        motions
+            .iter()
+            .zip(&self.specs)
+            .map(|((p, t), s)| sub_steps(p, t, s.cutter.radius, h, &self.params))
+            .collect()
     }
 
     /// Moves every disc from its own start with its own twist for `h`
@@ -483,12 +484,7 @@ impl Head {
     pub fn advance_discs(&mut self, starts: &[(Pose, Twist)], h: f64) -> Result<Vec<Pose>> {
         check_step(h)?;
         self.check_motions(starts)?;
-        let n = starts
-            .iter()
-            .zip(&self.specs)
-            .map(|((p, t), s)| sub_steps(p, t, s.cutter.radius, h, &self.params))
-            .max()
-            .unwrap_or(1);
+        let counts = self.sub_step_counts(starts, h);
         let end = sweep(
             &mut self.state.face,
             &mut self.discs,
@@ -496,7 +492,7 @@ impl Head {
             &self.params,
             starts,
             h,
-            n,
+            &counts,
             |t| {
                 Ok(starts
                     .iter()

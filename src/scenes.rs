@@ -236,7 +236,11 @@ impl Plan {
 
 /// A fresh straight cut `depth` deep, rolled by `roll` (0 = upright).
 pub fn fresh_plan(cell: f64, depth: f64, roll: f64) -> Plan {
-    let prm = face(cell, -0.3, 0.5, -0.06, 0.06);
+    straight_plan(face(cell, -0.3, 0.5, -0.06, 0.06), depth, roll)
+}
+
+/// One straight pass on the face of `prm`, `depth` deep, rolled by `roll`.
+fn straight_plan(prm: Params, depth: f64, roll: f64) -> Plan {
     let t = Straight {
         prm: prm.clone(),
         x0: 0.0,
@@ -414,18 +418,7 @@ pub fn flanked_cutter(flank_deg: f64) -> CutterParams {
 pub fn fresh_disc(cutter: &CutterParams, cell: f64, depth: f64, roll: f64) -> Mean {
     let mut prm = face(cell, -0.3, 0.5, -0.08, 0.08);
     prm.cutter = *cutter;
-    let t = Straight {
-        prm: prm.clone(),
-        x0: 0.0,
-        y: 0.0,
-        depth,
-        roll,
-    };
-    Plan {
-        prm,
-        passes: vec![(Box::new(t), PASS)],
-    }
-    .run()
+    straight_plan(prm, depth, roll).run()
 }
 
 /// The scenes flanks change (docs/flanks.md), with the disc `cutter`: a

@@ -268,8 +268,8 @@ impl PosedDisc {
             let root = (r * r - y * y).max(1e-300).sqrt();
             (q.x * d.x + q.z * d.z) / m + y / root * d.y
         };
-        let mut t = start;
-        let mut gt = g(start);
+        let t = start;
+        let gt = g(start);
         if gt <= 0.0 {
             // entered the cylinder where the rim is at radius R: the root
             return Some((
@@ -279,27 +279,7 @@ impl PosedDisc {
                 },
             ));
         }
-        let mut inn = f64::NAN;
-        for _ in 0..60 {
-            let slope = dg(t);
-            if slope >= 0.0 {
-                return None;
-            }
-            let next = t - gt / slope;
-            if next > t2 || next >= cap {
-                return None;
-            }
-            let gn = g(next);
-            if gn <= 1e-13 || next - t < 1e-13 {
-                inn = next;
-                break;
-            }
-            t = next;
-            gt = gn;
-        }
-        if !inn.is_finite() {
-            return None;
-        }
+        let inn = first_root(g, dg, t, gt, t2.min(cap))?;
         let qy = (a.y + d.y * inn).clamp(-h, h);
         Some((inn, Face::Rim { y: qy }))
     }
@@ -382,29 +362,8 @@ impl PosedDisc {
             };
             (q.x * d.x + q.z * d.z) / m - drho * d.y
         };
-        let mut t = t1.max(t_r);
-        let mut gt = g(t);
-        let mut inn = f64::NAN;
-        for _ in 0..60 {
-            let slope = dg(t);
-            if slope >= 0.0 {
-                return None;
-            }
-            let next = t - gt / slope;
-            if next > t2 {
-                return None;
-            }
-            let gn = g(next);
-            if gn <= 1e-13 || next - t < 1e-13 {
-                inn = next;
-                break;
-            }
-            t = next;
-            gt = gn;
-        }
-        if !inn.is_finite() {
-            return None;
-        }
+        let t = t1.max(t_r);
+        let inn = first_root(g, dg, t, g(t), t2)?;
         let qy = (a.y + d.y * inn).clamp(-hw, hw);
         Some((inn, face_at(qy)))
     }
@@ -573,6 +532,37 @@ impl PosedDisc {
         }
         Some((theta0, c.max(-1.0).acos()))
     }
+}
+
+/// The first root of a convex `g` (slope `dg`) by Newton from `t`, where
+/// `g(t) = gt > 0` and `t` lies left of that root: the iterates climb
+/// monotonically, each a lower bound of the root. `None` when `g` stops
+/// falling first (its minimum is positive: no root) or an iterate passes
+/// `limit` (the root lies beyond it).
+fn first_root(
+    g: impl Fn(f64) -> f64,
+    dg: impl Fn(f64) -> f64,
+    mut t: f64,
+    mut gt: f64,
+    limit: f64,
+) -> Option<f64> {
+    for _ in 0..60 {
+        let slope = dg(t);
+        if slope >= 0.0 {
+            return None;
+        }
+        let next = t - gt / slope;
+        if next > limit {
+            return None;
+        }
+        let gn = g(next);
+        if gn <= 1e-13 || next - t < 1e-13 {
+            return Some(next);
+        }
+        t = next;
+        gt = gn;
+    }
+    None
 }
 
 /// Wraps an angle into (-pi, pi].

@@ -8,8 +8,9 @@ measured over 0.1 m <= x <= 0.5 m, with chipping on and off. Writes
 
   out/chips_forces.png   the relieved pass's forces along the cut: saw-tooth vs chip-free
   out/chips_face.png     the block's surface with the chip craters, and a cross-section
-  out/chips_se.png       specific energy against S/p, with and without chips
-  out/chips_summary.json all numbers
+  out/chips_se.png       specific energy against S/p, with and without chips, with the chip
+                         curve's minimum marked against the published optimum (S/p 17-20)
+  out/chips_summary.json all numbers: the rows and the SE minimum
 
 Usage: scripts/chips [--fmu PATH] [--out DIR]
 """
@@ -33,7 +34,9 @@ LENGTH = 0.6         # pass length [m]
 WINDOW = (0.1, 0.5)  # measured stretch of the last pass [m]
 PASSES = 4
 H = 1e-3             # communication step [s] at 1 m/s: 1 mm
-SPACINGS = [0.03, 0.04, 0.051, 0.065, 0.08, 0.1]  # S [m]: S/p 7.9 .. 26.3
+# S [m]: S/p 7.9 .. 26.3, closer about the published optimum (S/p 17-20)
+SPACINGS = [0.03, 0.04, 0.051, 0.058, 0.065, 0.068, 0.071, 0.074, 0.08, 0.1]
+OPTIMUM = (17.0, 20.0)  # S/p of the SE minimum for Colorado Red Granite (issue 9's sources)
 
 
 def series(fmu, S, chipping, final=None):
@@ -121,13 +124,20 @@ def main(argv=None):
     fig.tight_layout()
     fig.savefig(out / "chips_face.png", dpi=110)
 
-    # specific energy against S/p
+    # specific energy against S/p, and where the chip curve has its minimum
+    best = min((r for r in rows if r["chipping"]), key=lambda r: r["se"])
+    inside = OPTIMUM[0] <= best["ratio"] <= OPTIMUM[1]
+    print(f"SE minimum with chips: {best['se'] / 1e6:.1f} MJ/m3 at S/p {best['ratio']:.1f} "
+          f"(S {best['S'] * 1e3:.0f} mm); the sources put it at S/p {OPTIMUM[0]:g}-{OPTIMUM[1]:g}: "
+          f"{'inside' if inside else 'OUTSIDE'}")
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for chipping, style in ((False, "ko--"), (True, "C3o-")):
         rr = [r for r in rows if r["chipping"] == chipping]
         ax.plot([r["ratio"] for r in rr], [r["se"] / 1e6 for r in rr], style,
                 label="chips" if chipping else "no chips")
-    ax.axvspan(17, 20, color="C2", alpha=0.2, label="published optimum, CRG (S/p 17-20)")
+    ax.axvspan(*OPTIMUM, color="C2", alpha=0.2, label="published optimum, CRG (S/p 17-20)")
+    ax.plot([best["ratio"]], [best["se"] / 1e6], "C3*", ms=14,
+            label=f"kerf's minimum: S/p {best['ratio']:.1f}, {best['se'] / 1e6:.0f} MJ/m3")
     ax.plot([13.4], [37.7], "C0s", label="LCM row, whole ridge removed (inferred)")
     ax.set_xlabel("S / p")
     ax.set_ylabel("specific energy [MJ/m3]")
@@ -136,7 +146,10 @@ def main(argv=None):
     fig.tight_layout()
     fig.savefig(out / "chips_se.png", dpi=110)
 
-    (out / "chips_summary.json").write_text(json.dumps(rows, indent=1))
+    (out / "chips_summary.json").write_text(json.dumps(
+        {"p": P, "rows": rows, "se_minimum": {"ratio": best["ratio"], "S": best["S"], "se": best["se"],
+                                              "published_optimum": list(OPTIMUM), "inside": inside}},
+        indent=1))
     print(f"wrote {out}/chips_forces.png, chips_face.png, chips_se.png, chips_summary.json")
 
 

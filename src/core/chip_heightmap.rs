@@ -579,4 +579,71 @@ mod tests {
         assert!((s.travel - 0.2).abs() < 1e-9 && s.index >= 2, "{s:?}");
         assert_eq!((s.count, s.volume), (0, 0.0));
     }
+
+    #[test]
+    fn on_a_curved_path_the_chip_is_a_sector_of_the_annulus() {
+        // two circular grooves about (0.2, 0) at radii 0.1 and 0.15 m, 4 mm
+        // deep, 13 mm wide; a disc on the inner one travels anticlockwise
+        // (turning left, curvature 1 / 0.1)
+        let g = Grid::new(0.0, 0.4, -0.2, 0.2, 401, 401);
+        let mut m = HeightMap::flat(g, 0.0);
+        for j in 0..g.ny {
+            for i in 0..g.nx {
+                let (x, y) = g.node_xy(i, j);
+                let r = (x - 0.2).hypot(y);
+                if (r - 0.1).abs() <= 0.0065 || (r - 0.15).abs() <= 0.0065 {
+                    m.set_node(i, j, -0.004);
+                }
+            }
+        }
+        // at angle 0 on the inner groove: (0.3, 0), heading +y; left is
+        // towards the centre (0.2, 0)
+        let b = Breakout {
+            origin: Vector3::new(0.3, 0.0, -0.004),
+            heading: [0.0, 1.0],
+            half_width: 0.0065,
+            length: 0.05,
+            kappa: 15.0,
+            curvature: 10.0,
+        };
+        // plan_point and path_coords are inverse, on both sides
+        for (xi, l) in [(0.0, 0.0), (0.03, 0.02), (0.05, -0.05), (0.01, 0.09)] {
+            let (x, y) = b.plan_point(xi, l);
+            let (a, c) = b.path_coords(x, y);
+            assert!(
+                (a - xi).abs() < 1e-12 && (c - l).abs() < 1e-12,
+                "{xi} {l}: {a} {c}"
+            );
+        }
+        // along the arc, lateral offset l lies at radius 0.1 - l from the centre
+        let (x, y) = b.plan_point(0.04, -0.05);
+        assert!(((x - 0.2).hypot(y) - 0.15).abs() < 1e-12);
+        // the right side (outwards) reaches the outer groove across the 37 mm
+        // ridge; the inner side 187 mm of rock across the centre, which stands
+        assert!(relief(&m, &b, 1.0).is_none());
+        let r = relief(&m, &b, -1.0).expect("the ridge breaks");
+        assert!((r.reach - 0.05).abs() < 0.007, "{r:?}");
+        let s = break_out(&mut m, &b);
+        assert_eq!(s.count, 1);
+        // the ridge is down to the groove bottom over the chip's angle
+        // (0.05 m of arc at 0.1 m: 0.5 rad), at mid-ridge radius 0.125 m
+        let at = |a: f64, r: f64| m.height(0.2 + r * a.cos(), r * a.sin());
+        for a in [0.05, 0.25, 0.45] {
+            assert!(
+                (at(a, 0.125) + 0.004).abs() < 1e-12,
+                "angle {a}: {}",
+                at(a, 0.125)
+            );
+        }
+        // and stands past its ends on the arc
+        assert_eq!(at(0.55, 0.125), 0.0);
+        assert_eq!(at(-0.05, 0.125), 0.0);
+        // the volume: the ridge's annular sector, 4 mm high (one cell row)
+        let sector = 0.5 * 0.5 * (0.1435f64.powi(2) - 0.1065f64.powi(2)) * 0.004;
+        assert!(
+            (s.volume - sector).abs() < 0.15 * sector,
+            "{} vs {sector}",
+            s.volume
+        );
+    }
 }

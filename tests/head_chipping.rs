@@ -286,6 +286,21 @@ fn chips_on_a_head_replay_bit_for_bit_for_any_thread_count() {
     assert!(oa.last().unwrap().chip_count > 10, "{:?}", oa.last());
     assert_eq!(oa, ob);
     assert_eq!(a.state().to_bytes(), b.state().to_bytes());
+    // evaluations (trial or not) and the would-cut query never break chips
+    let before = a.state().to_bytes();
+    for k in 0..5 {
+        let ahead = Pose::new(
+            0.0,
+            0.0,
+            pose.position.z - 0.001 * k as f64,
+            0.1 * k as f64,
+            0.0,
+            0.0,
+        );
+        a.evaluate_head(&ahead, &twist).unwrap();
+        a.cuts(&a.place(&ahead, &twist)).unwrap();
+    }
+    assert_eq!(a.state().to_bytes(), before);
     // save, bore on, restore (as is and from bytes), bore on again
     let saved = a.state();
     let bytes = saved.to_bytes();

@@ -159,8 +159,8 @@ fn another_seed_scatters_the_chips_but_keeps_the_mean() {
     // the force drops after each chip (less rock ahead) and rises again, so
     // its mean follows where the chips fall in the window (40 +- 1.2 chips
     // for a uniform spread of +-50 %): 5 % on both
-    let tol: [(fn(&Outputs) -> f64, f64); 2] =
-        [(|o| o.normal_force, 0.05), (|o| o.rolling_force, 0.05)];
+    type Field = fn(&Outputs) -> f64;
+    let tol: [(Field, f64); 2] = [(|o| o.normal_force, 0.05), (|o| o.rolling_force, 0.05)];
     for (f, t) in tol {
         let (ma, mb) = (mean(&a, f), mean(&b, f));
         assert!((ma - mb).abs() < t * ma, "{ma} vs {mb}");

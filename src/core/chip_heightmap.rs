@@ -134,6 +134,32 @@ impl ChipState {
         half_width: f64,
         max_step: f64,
     ) -> ChipStats {
+        self.after_cut_curved(map, p, low, cut, half_width, max_step, 0.0)
+    }
+
+    /// [`ChipState::after_cut`] on a path that curves in plan with
+    /// `curvature` (1/m, positive turning left of the travel; a disc on a
+    /// cutterhead track of radius `r` turns with `1 / r`): the chips follow
+    /// the path's arc instead of its tangent, so successive chips tile a
+    /// curved track as they tile a straight one.
+    #[allow(clippy::too_many_arguments)]
+    pub fn after_cut_curved(
+        &mut self,
+        map: &mut HeightMap,
+        p: &ChipParams,
+        low: Vector3<f64>,
+        cut: bool,
+        half_width: f64,
+        max_step: f64,
+        curvature: f64,
+    ) -> ChipStats {
+        // radii over 1 km are straight (the arc's formulas would lose the
+        // lateral offset to round-off against 1 / curvature)
+        let curvature = if curvature.abs() < 1e-3 {
+            0.0
+        } else {
+            curvature
+        };
         let mut stats = ChipStats::default();
         if let Some(prev) = self.last_low {
             let prev = Vector3::from(prev);
@@ -154,6 +180,7 @@ impl ChipState {
                             half_width,
                             length,
                             kappa: p.kappa,
+                            curvature,
                         };
                         let s = break_out(map, &b);
                         stats.count += s.count;
@@ -193,6 +220,60 @@ pub struct Breakout {
     pub length: f64,
     /// Crack reach over groove depth.
     pub kappa: f64,
+    /// Curvature of the path in plan (1/m, positive turning left of the
+    /// heading; 0 straight). The chip's plan is then a sector of the
+    /// annulus about the centre of curvature, clipped at that centre.
+    pub curvature: f64,
+}
+
+impl Breakout {
+    /// Whether the path is straight (see [`ChipState::after_cut_curved`]).
+    fn straight(&self) -> bool {
+        self.curvature == 0.0
+    }
+
+    /// Plan point at arc length `xi` along the path from the origin and
+    /// lateral offset `l` (positive left of the path).
+    pub fn plan_point(&self, xi: f64, l: f64) -> (f64, f64) {
+        let [hx, hy] = self.heading;
+        let k = self.curvature;
+        let (u, w) = if k == 0.0 {
+            (xi, l)
+        } else {
+            let (s, c) = (k * xi).sin_cos();
+            (s * (1.0 / k - l), 1.0 / k - c * (1.0 / k - l))
+        };
+        (
+            self.origin.x + hx * u - hy * w,
+            self.origin.y + hy * u + hx * w,
+        )
+    }
+
+    /// Inverse of [`Breakout::plan_point`]: `(xi, l)` of the plan point
+    /// `(x, y)`; a point past the centre of curvature maps to an arc
+    /// length beyond half a turn.
+    pub fn path_coords(&self, x: f64, y: f64) -> (f64, f64) {
+        let [hx, hy] = self.heading;
+        let (dx, dy) = (x - self.origin.x, y - self.origin.y);
+        let (u, w) = (dx * hx + dy * hy, -dx * hy + dy * hx);
+        if self.straight() {
+            return (u, w);
+        }
+        let k = self.curvature;
+        let s = k.signum();
+        let a = 1.0 / k - w;
+        let rho = u.hypot(a);
+        ((s * u).atan2(s * a) / k, 1.0 / k - s * rho)
+    }
+
+    /// Unit lateral direction (left) at arc length `xi`.
+    fn lateral(&self, xi: f64) -> (f64, f64) {
+        let [hx, hy] = self.heading;
+        let (s, c) = (self.curvature * xi).sin_cos();
+        // local normal (-sin, cos) turned into the rock frame
+        let (u, w) = (-s, c);
+        (hx * u - hy * w, hy * u + hx * w)
+    }
 }
 
 /// Where a lateral crack on one side of the groove meets a free surface.
@@ -210,10 +291,9 @@ pub struct Relief {
 pub fn relief(map: &HeightMap, b: &Breakout, side: f64) -> Option<Relief> {
     let g = map.grid();
     let step = 0.5 * g.dx.min(g.dy);
-    let [hx, hy] = b.heading;
-    let (lx, ly) = (-hy * side, hx * side);
-    let mx = b.origin.x + hx * 0.5 * b.length;
-    let my = b.origin.y + hy * 0.5 * b.length;
+    let (lx, ly) = b.lateral(0.5 * b.length);
+    let (lx, ly) = (lx * side, ly * side);
+    let (mx, my) = b.plan_point(0.5 * b.length, 0.0);
     let at = |eta: f64| map.height(mx + lx * eta, my + ly * eta);
     let zb = b.origin.z;
     // the ridge's top, met first beside the groove
@@ -282,25 +362,30 @@ pub fn break_out(map: &mut HeightMap, b: &Breakout) -> ChipStats {
 /// Lowers the nodes of one side's chip; returns the volume removed.
 fn lower_to_chip(map: &mut HeightMap, b: &Breakout, side: f64, r: &Relief) -> f64 {
     let g = *map.grid();
-    let [hx, hy] = b.heading;
-    let (lx, ly) = (-hy * side, hx * side);
-    let (ox, oy) = (b.origin.x, b.origin.y);
-    // plan corners of the chip, for the node window
-    let xs = [
-        ox,
-        ox + hx * b.length,
-        ox + lx * r.reach,
-        ox + hx * b.length + lx * r.reach,
-    ];
-    let ys = [
-        oy,
-        oy + hy * b.length,
-        oy + ly * r.reach,
-        oy + hy * b.length + ly * r.reach,
-    ];
-    let lo = |v: &[f64; 4]| v.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = |v: &[f64; 4]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let Some((i0, i1, j0, j1)) = g.node_range(lo(&xs), hi(&xs), lo(&ys), hi(&ys)) else {
+    // on a curved path the inner side's chip ends at the centre of curvature
+    let reach = if b.curvature * side > 0.0 {
+        r.reach.min(1.0 / b.curvature.abs())
+    } else {
+        r.reach
+    };
+    // plan outline of the chip, for the node window (its arcs sampled finely
+    // enough that their bulge between samples stays under a cell)
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    let parts = if b.straight() { 1 } else { 16 };
+    for k in 0..=parts {
+        let xi = b.length * k as f64 / parts as f64;
+        for eta in [0.0, reach] {
+            let (x, y) = b.plan_point(xi, side * eta);
+            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        }
+    }
+    let pad = if parts == 1 { 0.0 } else { g.dx.max(g.dy) };
+    let Some((i0, i1, j0, j1)) = g.node_range(x0 - pad, x1 + pad, y0 - pad, y1 + pad) else {
         return 0.0;
     };
     let slope = (r.z_far - b.origin.z) / r.reach;
@@ -308,10 +393,9 @@ fn lower_to_chip(map: &mut HeightMap, b: &Breakout, side: f64, r: &Relief) -> f6
     for j in j0..=j1 {
         for i in i0..=i1 {
             let (x, y) = g.node_xy(i, j);
-            let (dx, dy) = (x - ox, y - oy);
-            let xi = dx * hx + dy * hy;
-            let eta = dx * lx + dy * ly;
-            if !(0.0..=b.length).contains(&xi) || !(0.0..=r.reach).contains(&eta) {
+            let (xi, l) = b.path_coords(x, y);
+            let eta = side * l;
+            if !(0.0..=b.length).contains(&xi) || !(0.0..=reach).contains(&eta) {
                 continue;
             }
             let z_chip = b.origin.z + slope * eta;
@@ -355,6 +439,7 @@ mod tests {
             half_width: 0.0065,
             length: 0.05,
             kappa,
+            curvature: 0.0,
         }
     }
 
@@ -493,5 +578,72 @@ mod tests {
         }
         assert!((s.travel - 0.2).abs() < 1e-9 && s.index >= 2, "{s:?}");
         assert_eq!((s.count, s.volume), (0, 0.0));
+    }
+
+    #[test]
+    fn on_a_curved_path_the_chip_is_a_sector_of_the_annulus() {
+        // two circular grooves about (0.2, 0) at radii 0.1 and 0.15 m, 4 mm
+        // deep, 13 mm wide; a disc on the inner one travels anticlockwise
+        // (turning left, curvature 1 / 0.1)
+        let g = Grid::new(0.0, 0.4, -0.2, 0.2, 401, 401);
+        let mut m = HeightMap::flat(g, 0.0);
+        for j in 0..g.ny {
+            for i in 0..g.nx {
+                let (x, y) = g.node_xy(i, j);
+                let r = (x - 0.2).hypot(y);
+                if (r - 0.1).abs() <= 0.0065 || (r - 0.15).abs() <= 0.0065 {
+                    m.set_node(i, j, -0.004);
+                }
+            }
+        }
+        // at angle 0 on the inner groove: (0.3, 0), heading +y; left is
+        // towards the centre (0.2, 0)
+        let b = Breakout {
+            origin: Vector3::new(0.3, 0.0, -0.004),
+            heading: [0.0, 1.0],
+            half_width: 0.0065,
+            length: 0.05,
+            kappa: 15.0,
+            curvature: 10.0,
+        };
+        // plan_point and path_coords are inverse, on both sides
+        for (xi, l) in [(0.0, 0.0), (0.03, 0.02), (0.05, -0.05), (0.01, 0.09)] {
+            let (x, y) = b.plan_point(xi, l);
+            let (a, c) = b.path_coords(x, y);
+            assert!(
+                (a - xi).abs() < 1e-12 && (c - l).abs() < 1e-12,
+                "{xi} {l}: {a} {c}"
+            );
+        }
+        // along the arc, lateral offset l lies at radius 0.1 - l from the centre
+        let (x, y) = b.plan_point(0.04, -0.05);
+        assert!(((x - 0.2).hypot(y) - 0.15).abs() < 1e-12);
+        // the right side (outwards) reaches the outer groove across the 37 mm
+        // ridge; the inner side 187 mm of rock across the centre, which stands
+        assert!(relief(&m, &b, 1.0).is_none());
+        let r = relief(&m, &b, -1.0).expect("the ridge breaks");
+        assert!((r.reach - 0.05).abs() < 0.007, "{r:?}");
+        let s = break_out(&mut m, &b);
+        assert_eq!(s.count, 1);
+        // the ridge is down to the groove bottom over the chip's angle
+        // (0.05 m of arc at 0.1 m: 0.5 rad), at mid-ridge radius 0.125 m
+        let at = |a: f64, r: f64| m.height(0.2 + r * a.cos(), r * a.sin());
+        for a in [0.05, 0.25, 0.45] {
+            assert!(
+                (at(a, 0.125) + 0.004).abs() < 1e-12,
+                "angle {a}: {}",
+                at(a, 0.125)
+            );
+        }
+        // and stands past its ends on the arc
+        assert_eq!(at(0.55, 0.125), 0.0);
+        assert_eq!(at(-0.05, 0.125), 0.0);
+        // the volume: the ridge's annular sector, 4 mm high (one cell row)
+        let sector = 0.5 * 0.5 * (0.1435f64.powi(2) - 0.1065f64.powi(2)) * 0.004;
+        assert!(
+            (s.volume - sector).abs() < 0.15 * sector,
+            "{} vs {sector}",
+            s.volume
+        );
     }
 }

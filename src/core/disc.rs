@@ -165,6 +165,7 @@ impl Disc {
         face: &mut Face,
         state: &mut DiscState,
         pose: &Pose,
+        twist: &Twist,
         params: &Params,
     ) -> bool {
         let disc = self.posed(pose);
@@ -175,7 +176,7 @@ impl Disc {
             params.rock.plastic_fraction,
         );
         face.excavated_volume += stats.volume;
-        let chips = chip_at(face, state, &disc, stats.nodes > 0, params);
+        let chips = chip_at(face, state, &disc, twist, stats.nodes > 0, params);
         if stats.nodes > 0 || chips {
             self.forget();
         }
@@ -191,13 +192,37 @@ pub(crate) fn chip_max_step(map: &HeightMap, params: &Params) -> f64 {
     2.0 * params.numerics.sweep_step + g.dx.max(g.dy)
 }
 
+/// Curvature in plan (1/m, positive turning left) of the path of the
+/// disc's lowest point `low` for `disc` moving with `twist`. The
+/// disc's angular velocity is read as a turn `a` about the vertical plus a
+/// spin about the axle (exact for a head turning about its axis, 0 for a disc
+/// rolling straight); the lowest point then moves with `v + a z x (low - c)`
+/// and its heading turns at `a`.
+fn path_curvature(disc: &PosedDisc, twist: &Twist, low: &Vector3<f64>) -> f64 {
+    let axle = disc.rot.column(1).into_owned();
+    let c = axle.z;
+    if 1.0 - c * c < 1e-9 {
+        return 0.0;
+    }
+    let w = &twist.omega;
+    let a = (w.z - c * w.dot(&axle)) / (1.0 - c * c);
+    let arm = low - disc.centre;
+    let v = twist.velocity + Vector3::z().cross(&arm) * a;
+    let speed = v.x.hypot(v.y);
+    if speed < 1e-12 {
+        return 0.0;
+    }
+    a / speed
+}
+
 /// With chipping on, records the pose `disc` on the path (`cut`: the disc
-/// removed rock there) and breaks out the chips it has reached; returns
-/// whether any did.
+/// removed rock there) and breaks out the chips it has reached, following
+/// the path's curvature; returns whether any did.
 fn chip_at(
     face: &mut Face,
     state: &mut DiscState,
     disc: &PosedDisc,
+    twist: &Twist,
     cut: bool,
     params: &Params,
 ) -> bool {
@@ -206,13 +231,16 @@ fn chip_at(
         return false;
     }
     let max_step = chip_max_step(&face.map, params);
-    let s = state.chips.after_cut(
+    let low = disc.lowest_point();
+    let curvature = path_curvature(disc, twist, &low);
+    let s = state.chips.after_cut_curved(
         &mut face.map,
         p,
-        disc.lowest_point(),
+        low,
         cut,
         disc.half_width,
         max_step,
+        curvature,
     );
     face.excavated_volume += s.volume;
     s.count > 0
@@ -305,12 +333,12 @@ pub fn commit_paths(
                 let q = q0.slerp(q1, t);
                 let p = prev.position + (pose.position - prev.position) * t;
                 let at = Pose::from_rotation(p, &q.to_rotation_matrix());
-                changed |= discs[i].cut_at(face, &mut states[i], &at, params);
+                changed |= discs[i].cut_at(face, &mut states[i], &at, &motions[i].1, params);
             }
         }
     }
-    for (i, (pose, _)) in motions.iter().enumerate() {
-        changed |= discs[i].cut_at(face, &mut states[i], pose, params);
+    for (i, (pose, twist)) in motions.iter().enumerate() {
+        changed |= discs[i].cut_at(face, &mut states[i], pose, twist, params);
         states[i].last_cut = Some(*pose);
     }
     if changed {
@@ -342,9 +370,9 @@ pub fn sweep(
     // at the start of the run (nothing cut yet) a disc's start pose is cut
     // first, as Model Exchange's initial event does (kerf.fmu's rule)
     let mut first = false;
-    for (i, (pose, _)) in start.iter().enumerate() {
+    for (i, (pose, twist)) in start.iter().enumerate() {
         if states[i].last_cut.is_none() {
-            discs[i].cut_at(face, &mut states[i], pose, params);
+            discs[i].cut_at(face, &mut states[i], pose, twist, params);
             states[i].last_cut = Some(*pose);
             first = true;
         }
@@ -382,9 +410,9 @@ pub fn sweep(
             end = path(h * k as f64 / n as f64)?;
             at = Some((k, n));
         }
-        let pose = &end[i].0;
+        let (pose, twist) = &end[i];
         pose.validate()?;
-        discs[i].cut_at(face, &mut states[i], pose, params);
+        discs[i].cut_at(face, &mut states[i], pose, twist, params);
     }
     // the last time is k / n = 1 for every disc: `end` holds the motions at h
     discs.iter().for_each(Disc::forget);

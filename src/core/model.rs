@@ -372,10 +372,12 @@ impl Model {
         Ok(o.work_on_rock(twist, 1.0))
     }
 
-    fn cut_at(&mut self, pose: &Pose) -> bool {
+    /// Cuts at `pose` for a disc moving with `twist` (chips follow the
+    /// path's curvature).
+    fn cut_at(&mut self, pose: &Pose, twist: &Twist) -> bool {
         let s = &mut self.state;
         self.disc
-            .cut_at(&mut s.face, &mut s.disc, pose, &self.params)
+            .cut_at(&mut s.face, &mut s.disc, pose, twist, &self.params)
     }
 
     /// Cuts the rock at `pose` (a Model Exchange event). `dt` is the time since
@@ -436,9 +438,9 @@ impl Model {
         self.transaction(|m| {
             let mut changed = false;
             for k in 1..n {
-                changed |= m.cut_at(&along(k));
+                changed |= m.cut_at(&along(k), twist);
             }
-            changed |= m.cut_at(pose);
+            changed |= m.cut_at(pose, twist);
             m.state.disc.last_cut = Some(*pose);
             let after = m.evaluate(pose, twist)?;
             m.after_commit.set(Some((*pose, *twist, after)));
@@ -542,7 +544,7 @@ impl Model {
         self.check_visits((1..=n).map(along), "the step", h)?;
         self.transaction(|m| {
             if m.state.disc.last_cut.is_none() {
-                m.cut_at(start);
+                m.cut_at(start, twist);
                 m.state.disc.last_cut = Some(*start);
             }
             let o0 = m.evaluate(start, twist)?;
@@ -561,7 +563,7 @@ impl Model {
             let mut end = *start;
             for k in 1..=n {
                 end = along(k);
-                m.cut_at(&end);
+                m.cut_at(&end, twist);
             }
             let o1 = m.evaluate(&end, twist)?;
             m.state.face.cutting_energy +=

@@ -11,8 +11,8 @@ use super::cut_cutter_heightmap::window_nodes;
 use super::cutter::PosedDisc;
 use super::disc::{chip_max_step, Disc, DiscState};
 use super::error::{KerfError, Result};
-use super::face::{blob, Face};
-use super::heightmap::{Grid, HeightMap};
+use super::face::{self, blob, Face};
+use super::heightmap::HeightMap;
 use super::params::{Params, MAX_NODE_VISITS_PER_CALL, MAX_SUBSTEPS_PER_CALL, TILTED_NODE_WEIGHT};
 use super::pose::{advance_pose, Pose, Twist};
 use super::rsf;
@@ -60,11 +60,6 @@ const MAGIC: &[u8; 8] = b"KERFCORE";
 /// 4: tiles carry their cut masks.
 const VERSION: u32 = 4;
 
-fn grid_of(params: &Params) -> Grid {
-    let r = &params.rock;
-    Grid::new(r.x_min, r.x_max, r.y_min, r.y_max, r.nx, r.ny)
-}
-
 impl ModelState {
     /// Versioned little-endian binary form: magic, version, grid, bookkeeping,
     /// last cut and chips, then the touched tiles only (the layout of
@@ -95,7 +90,7 @@ impl ModelState {
                 "state version {version}, this build reads {VERSION}"
             )));
         }
-        let grid = grid_of(params);
+        let grid = face::grid_of(&params.rock);
         let (excavated_volume, cutting_energy) = r.face_header(&grid, params.rock.z0)?;
         let disc = r.disc_state()?;
         let map = r.tiles(grid, params.rock.z0)?;

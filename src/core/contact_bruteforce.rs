@@ -165,11 +165,7 @@ pub fn contact_brute(
                 // distance from the far end, for the psi distribution
                 let u = (tb - t).abs();
                 let w = if psi == 0.0 { 1.0 } else { (u / len).powf(psi) };
-                let l = Load {
-                    force: e.force.at(t),
-                    moment: e.moment.at(t),
-                }
-                .scaled(w * dt);
+                let l = e.load_at(t).scaled(w * dt);
                 whole += l;
                 if e.vn_at(t) > e.vn_eps {
                     drive += l;

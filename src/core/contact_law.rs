@@ -209,6 +209,15 @@ impl Motion {
 }
 
 impl Element {
+    /// Force and moment per unit pressure and unit angle at angle `t`.
+    #[inline]
+    pub fn load_at(&self, t: f64) -> Load {
+        Load {
+            force: self.force.at(t),
+            moment: self.moment.at(t),
+        }
+    }
+
     /// Rim circle of the tip profile at axle coordinate `y`, for a strip of
     /// the tip `dy` wide.
     pub fn rim(disc: &PosedDisc, y: f64, dy: f64, m: &Motion) -> Self {
@@ -398,11 +407,7 @@ pub fn arc_load(e: &Element, lo: f64, hi: f64, far_hi: bool, psi: f64) -> (Load,
     for &(v, w) in gauss16() {
         let u = len * v.powf(ex);
         let t = if far_hi { hi - u } else { lo + u };
-        let l = Load {
-            force: e.force.at(t),
-            moment: e.moment.at(t),
-        }
-        .scaled(w * scale);
+        let l = e.load_at(t).scaled(w * scale);
         whole += l;
         if e.vn_at(t) > e.vn_eps {
             drive += l;

@@ -12,7 +12,7 @@
 //! zero one step after the rock under the cutter was removed).
 
 use super::cutter::PosedDisc;
-use super::heightmap::{Grid, HeightMap};
+use super::heightmap::{Grid, HeightMap, Patch, TileRect};
 
 /// What one cut removed.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -38,7 +38,8 @@ pub const CUT_TOLERANCE: f64 = 1e-10;
 /// times the nodes. The highest rock is taken twice: near the whole disc,
 /// then under that first footprint only, which is tighter on a face that
 /// is not flat (a cutterhead's face steps by a revolution's penetration).
-struct Window {
+#[derive(Debug, Clone)]
+pub struct Window {
     j0: usize,
     j1: usize,
     /// World box `[x_lo, x_hi]` and the heading box: `(cos, sin)` of the
@@ -49,6 +50,20 @@ struct Window {
 }
 
 impl Window {
+    /// The tiles of `map` holding every node the window scans, or `None`
+    /// when it scans none.
+    pub fn tiles(&self, map: &HeightMap) -> Option<TileRect> {
+        let g = map.grid();
+        let mut b: Option<[usize; 4]> = None;
+        for j in self.j0..=self.j1 {
+            if let Some((i0, i1)) = self.row(g, j) {
+                let v = b.get_or_insert([i0, i1, j, j]);
+                *v = [v[0].min(i0), v[1].max(i1), v[2].min(j), v[3].max(j)];
+            }
+        }
+        b.map(|[i0, i1, j0, j1]| map.tile_rect(i0, i1, j0, j1))
+    }
+
     /// The node range of row `j`, or `None`.
     fn row(&self, g: &Grid, j: usize) -> Option<(usize, usize)> {
         let y = g.y_min + g.dy * j as f64;
@@ -73,7 +88,10 @@ impl Window {
     }
 }
 
-fn node_window(map: &HeightMap, disc: &PosedDisc) -> Option<Window> {
+/// The window of a cut at this pose on `map` (`None`: nothing to scan).
+/// On a map a cut at another place has lowered since, it is still a window
+/// of this cut: lower rock only shrinks the part of the disc below it.
+pub fn node_window(map: &HeightMap, disc: &PosedDisc) -> Option<Window> {
     let g = map.grid();
     let r = disc.radius;
     let (i0, i1, j0, j1) = g.node_range(
@@ -118,15 +136,33 @@ pub fn window_nodes(map: &HeightMap, disc: &PosedDisc) -> usize {
     })
 }
 
-/// Read access to the map, and writes where the caller may write.
+/// Read access to the nodes, and writes where the caller may write.
 trait Nodes {
-    fn map(&self) -> &HeightMap;
+    fn grid(&self) -> &Grid;
+    fn node(&self, i: usize, j: usize) -> f64;
     fn set(&mut self, i: usize, j: usize, z: f64);
 }
 
 impl Nodes for HeightMap {
-    fn map(&self) -> &HeightMap {
-        self
+    fn grid(&self) -> &Grid {
+        HeightMap::grid(self)
+    }
+    #[inline]
+    fn node(&self, i: usize, j: usize) -> f64 {
+        HeightMap::node(self, i, j)
+    }
+    fn set(&mut self, i: usize, j: usize, z: f64) {
+        self.lower_node(i, j, z);
+    }
+}
+
+impl Nodes for Patch<'_> {
+    fn grid(&self) -> &Grid {
+        Patch::grid(self)
+    }
+    #[inline]
+    fn node(&self, i: usize, j: usize) -> f64 {
+        Patch::node(self, i, j)
     }
     fn set(&mut self, i: usize, j: usize, z: f64) {
         self.lower_node(i, j, z);
@@ -137,8 +173,12 @@ impl Nodes for HeightMap {
 struct ReadOnly<'a>(&'a HeightMap);
 
 impl Nodes for ReadOnly<'_> {
-    fn map(&self) -> &HeightMap {
-        self.0
+    fn grid(&self) -> &Grid {
+        self.0.grid()
+    }
+    #[inline]
+    fn node(&self, i: usize, j: usize) -> f64 {
+        self.0.node(i, j)
     }
     fn set(&mut self, _: usize, _: usize, _: f64) {}
 }
@@ -148,15 +188,13 @@ impl Nodes for ReadOnly<'_> {
 /// each by that share of its excess; without, it stops at the first one.
 fn sweep_nodes<M: Nodes>(
     map: &mut M,
+    w: &Window,
     disc: &PosedDisc,
     elastic_depth: f64,
     fraction: Option<f64>,
 ) -> (CutStats, bool) {
     let mut stats = CutStats::default();
-    let Some(w) = node_window(map.map(), disc) else {
-        return (stats, false);
-    };
-    let g = *map.map().grid();
+    let g = *map.grid();
     let area = g.cell_area();
     let rt = disc.rot.transpose();
     let d = rt.column(2).into_owned();
@@ -181,7 +219,7 @@ fn sweep_nodes<M: Nodes>(
             f64::NEG_INFINITY
         };
         for i in i0..=i1 {
-            if map.map().node(i, j) <= floor {
+            if map.node(i, j) <= floor {
                 a += step;
                 continue;
             }
@@ -202,13 +240,13 @@ fn sweep_nodes<M: Nodes>(
                 }
                 -b - disc2.sqrt()
             } else {
-                let cap = map.map().node(i, j) - elastic_depth - CUT_TOLERANCE;
+                let cap = map.node(i, j) - elastic_depth - CUT_TOLERANCE;
                 match disc.column_lower_end(&q, &d, cap) {
                     Some((zl, _)) => zl,
                     None => continue,
                 }
             };
-            let z = map.map().node(i, j);
+            let z = map.node(i, j);
             let excess = z - (z_low + elastic_depth);
             if excess > CUT_TOLERANCE {
                 let Some(f) = fraction else {
@@ -231,10 +269,27 @@ pub fn cut(
     elastic_depth: f64,
     plastic_fraction: f64,
 ) -> CutStats {
-    sweep_nodes(map, disc, elastic_depth, Some(plastic_fraction)).0
+    match node_window(map, disc) {
+        Some(w) => sweep_nodes(map, &w, disc, elastic_depth, Some(plastic_fraction)).0,
+        None => CutStats::default(),
+    }
+}
+
+/// [`cut`] on a patch of the map that holds the window's tiles
+/// ([`Window::tiles`]), with a window found on the map before the patch
+/// was taken (or since): the same nodes fall, to the same heights.
+pub fn cut_patch(
+    patch: &mut Patch<'_>,
+    w: &Window,
+    disc: &PosedDisc,
+    elastic_depth: f64,
+    plastic_fraction: f64,
+) -> CutStats {
+    sweep_nodes(patch, w, disc, elastic_depth, Some(plastic_fraction)).0
 }
 
 /// Would [`cut`] at this pose lower any node?
 pub fn would_cut(map: &HeightMap, disc: &PosedDisc, elastic_depth: f64) -> bool {
-    sweep_nodes(&mut ReadOnly(map), disc, elastic_depth, None).1
+    node_window(map, disc)
+        .is_some_and(|w| sweep_nodes(&mut ReadOnly(map), &w, disc, elastic_depth, None).1)
 }

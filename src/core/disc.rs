@@ -18,11 +18,11 @@ use super::chip_heightmap::ChipState;
 use super::contact_cutter_heightmap::{contact, Contact};
 use super::contact_thesis::contact_thesis;
 use super::csm::CsmLaw;
-use super::cut_cutter_heightmap::{cut, would_cut};
+use super::cut_cutter_heightmap::{cut, cut_patch, node_window, would_cut, CutStats, Window};
 use super::cutter::PosedDisc;
 use super::error::Result;
 use super::face::Face;
-use super::heightmap::HeightMap;
+use super::heightmap::{HeightMap, TileRect};
 use super::model::{check_interval, friction_force, steps_for, Outputs};
 use super::params::{CsmParams, CutterParams, DirectionRule, Params};
 use super::pose::{Pose, Twist};
@@ -404,15 +404,25 @@ pub fn sweep(
         .collect();
     cuts.sort_by(|a, b| (a.0 * b.1).cmp(&(b.0 * a.1)).then(a.2.cmp(&b.2)));
     let mut end = start.to_vec();
-    let mut at: Option<(usize, usize)> = None;
-    for (k, n, i) in cuts {
-        if at.is_none_or(|(k0, n0)| k0 * n != k * n0) {
-            end = path(h * k as f64 / n as f64)?;
-            at = Some((k, n));
+    let mut rest = &cuts[..];
+    while let Some(&(k, n, _)) = rest.first() {
+        // the discs that cut at time k / n, in layout order
+        let same = rest.partition_point(|c| c.0 * n == k * c.1);
+        let group: Vec<usize> = rest[..same].iter().map(|c| c.2).collect();
+        rest = &rest[same..];
+        end = path(h * k as f64 / n as f64)?;
+        for &i in &group {
+            end[i].0.validate()?;
         }
-        let (pose, twist) = &end[i];
-        pose.validate()?;
-        discs[i].cut_at(face, &mut states[i], pose, twist, params);
+        if params.chipping.enabled || group.len() == 1 {
+            // a chip reaches past its disc's window: one disc at a time
+            for &i in &group {
+                let (pose, twist) = &end[i];
+                discs[i].cut_at(face, &mut states[i], pose, twist, params);
+            }
+        } else {
+            cut_together(face, discs, &group, &end, params);
+        }
     }
     // the last time is k / n = 1 for every disc: `end` holds the motions at h
     discs.iter().for_each(Disc::forget);
@@ -427,6 +437,79 @@ pub fn sweep(
     Ok(end)
 }
 
+/// The cuts of the discs `group` (in layout order) at their poses in
+/// `motions`, as [`Disc::cut_at`] one after another in that order without
+/// chips, but the cuts whose windows share no tile run at once.
+///
+/// Each disc's window is found on the map as it stands before the group
+/// cuts (a cut elsewhere changes no tile's height bound, so the window is
+/// the one it would find in turn). Discs go into waves, each the earliest
+/// after every earlier disc whose window shares a tile with its own; a
+/// wave's cuts touch disjoint tiles, so they commute, and a disc that shares
+/// tiles with an earlier one cuts after it, as in layout order. The face is
+/// therefore the one the sequential cuts leave, for any number of threads,
+/// and the removed volume is summed in layout order.
+fn cut_together(
+    face: &mut Face,
+    discs: &[Disc],
+    group: &[usize],
+    motions: &[(Pose, Twist)],
+    params: &Params,
+) {
+    let (elastic, fraction) = (params.numerics.elastic_depth, params.rock.plastic_fraction);
+    let posed: Vec<PosedDisc> = group
+        .iter()
+        .map(|&i| discs[i].posed(&motions[i].0))
+        .collect();
+    let map = &face.map;
+    let windows: Vec<Option<(Window, TileRect)>> = posed
+        .par_iter()
+        .map(|d| node_window(map, d).and_then(|w| w.tiles(map).map(|r| (w, r))))
+        .collect();
+    let mut wave = vec![0usize; group.len()];
+    for a in 0..group.len() {
+        let Some((_, ra)) = &windows[a] else { continue };
+        for b in 0..a {
+            if let Some((_, rb)) = &windows[b] {
+                if ra.overlaps(rb) {
+                    wave[a] = wave[a].max(wave[b] + 1);
+                }
+            }
+        }
+    }
+    let mut stats = vec![CutStats::default(); group.len()];
+    for w in 0..=wave.iter().copied().max().unwrap_or(0) {
+        let members: Vec<usize> = (0..group.len())
+            .filter(|&a| wave[a] == w && windows[a].is_some())
+            .collect();
+        let rects: Vec<TileRect> = members
+            .iter()
+            .map(|&a| windows[a].as_ref().expect("member").1)
+            .collect();
+        let patches = face
+            .map
+            .patches(&rects)
+            .expect("a wave's windows share no tile");
+        let done: Vec<CutStats> = patches
+            .into_par_iter()
+            .zip(members.par_iter())
+            .map(|(mut patch, &a)| {
+                let win = &windows[a].as_ref().expect("member").0;
+                cut_patch(&mut patch, win, &posed[a], elastic, fraction)
+            })
+            .collect();
+        for (&a, st) in members.iter().zip(done) {
+            stats[a] = st;
+        }
+    }
+    for (&i, st) in group.iter().zip(&stats) {
+        face.excavated_volume += st.volume;
+        if st.nodes > 0 {
+            discs[i].forget();
+        }
+    }
+}
+
 /// Sub-steps of a sweep in which no rim point of a disc whose centre moves
 /// with `twist` travels more than `numerics.sweep_step` (the spin about the
 /// axle does not count: a rolling rim point does not move over the rock).
@@ -436,4 +519,67 @@ pub fn sub_steps(pose: &Pose, twist: &Twist, radius: f64, h: f64, params: &Param
     let w_frame = twist.omega - axle * twist.omega.dot(&axle);
     let travel = (twist.velocity.norm() + w_frame.norm() * radius) * h;
     steps_for(travel, params.numerics.sweep_step).min(1.0e7) as usize
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Cuts at once what layout order would cut one by one: the same face,
+    /// bit for bit, and the same volume. The discs stand in pairs whose
+    /// windows share tiles (so waves must keep their order), apart, and
+    /// tilted; each group cuts twice so the second cut meets the first.
+    #[test]
+    fn cuts_together_leave_the_face_layout_order_leaves() {
+        let mut p = Params::default();
+        (p.rock.x_min, p.rock.x_max, p.rock.y_min, p.rock.y_max) = (-0.6, 0.6, -0.6, 0.6);
+        (p.rock.nx, p.rock.ny) = (1201, 1201);
+        // half plastic: a node two discs cut ends where the order puts it
+        p.rock.plastic_fraction = 0.5;
+        let disc = Disc::new(p.cutter, p.csm, p.numerics.p_reg);
+        let at = |x: f64, y: f64, depth: f64, yaw: f64, roll: f64| {
+            let probe = Pose::new(0.0, 0.0, 1.0, 0.0, 0.0, roll);
+            let low = disc.posed(&probe).lowest_point();
+            let pose = Pose::new(x, y, 1.0 - low.z - depth, 0.0, 0.0, roll);
+            Pose::from_rotation(
+                pose.position,
+                &(nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), yaw) * pose.rotation()),
+            )
+        };
+        let poses = [
+            at(-0.3, -0.3, 0.004, 0.0, 0.0),
+            at(-0.29, -0.296, 0.006, 0.3, 0.0), // shares tiles with the first
+            at(0.3, 0.3, 0.005, 1.0, 0.5),      // tilted, apart
+            at(0.3, -0.3, 0.003, -0.7, 0.0),
+            at(0.31, 0.305, 0.004, 1.2, 0.9), // tilted, shares with the third
+            at(0.0, 0.0, 0.002, 2.0, 0.0),
+        ];
+        let twist = Twist::new([1.0, 0.0, 0.0], [0.0, 0.0, 0.0]);
+        let n = poses.len();
+        let discs: Vec<Disc> = (0..n).map(|_| disc.clone()).collect();
+        let group: Vec<usize> = (0..n).collect();
+        let mut together = Face::new(&p.rock).unwrap();
+        let mut in_turn = together.clone();
+        let mut states: Vec<DiscState> = (0..n).map(|_| DiscState::new(&p)).collect();
+        for shift in [0.0, 0.002] {
+            let motions: Vec<(Pose, Twist)> = poses
+                .iter()
+                .map(|q| {
+                    let mut q = *q;
+                    q.position.x += shift;
+                    (q, twist)
+                })
+                .collect();
+            cut_together(&mut together, &discs, &group, &motions, &p);
+            for i in 0..n {
+                discs[i].cut_at(&mut in_turn, &mut states[i], &motions[i].0, &twist, &p);
+            }
+        }
+        assert!(together.excavated_volume > 0.0);
+        assert_eq!(
+            together.excavated_volume.to_bits(),
+            in_turn.excavated_volume.to_bits()
+        );
+        assert!(together == in_turn, "the faces differ");
+    }
 }

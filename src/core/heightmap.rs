@@ -49,6 +49,100 @@ struct Tile {
     z_max: f64,
 }
 
+impl Tile {
+    /// The tile in `slot` for writing, allocated (flat at `z0`) if absent;
+    /// and whether it was.
+    fn for_writing(slot: &mut Option<Tile>, z0: f64) -> (&mut Tile, bool) {
+        let allocated = slot.is_none();
+        let tile = slot.get_or_insert_with(|| Tile {
+            d: Arc::new(TileData {
+                z: [z0; TILE_NODES],
+                cut: [0; MASK_WORDS],
+            }),
+            z_max: z0,
+        });
+        (tile, allocated)
+    }
+
+    /// Lowers node `k` to `z` and marks it cut (copy on write: a tile shared
+    /// with a snapshot is copied here, once).
+    fn lower(&mut self, k: usize, z: f64) {
+        let d = Arc::make_mut(&mut self.d);
+        d.z[k] = z;
+        d.cut[k / 64] |= 1u64 << (k % 64);
+        if z > self.z_max {
+            self.z_max = z;
+        }
+    }
+}
+
+/// A rectangle of tiles: columns `ti[0]..=ti[1]`, rows `tj[0]..=tj[1]`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TileRect {
+    pub ti: [usize; 2],
+    pub tj: [usize; 2],
+}
+
+impl TileRect {
+    pub fn overlaps(&self, o: &TileRect) -> bool {
+        self.ti[0] <= o.ti[1]
+            && o.ti[0] <= self.ti[1]
+            && self.tj[0] <= o.tj[1]
+            && o.tj[0] <= self.tj[1]
+    }
+}
+
+/// A writable view of a rectangle of a map's tiles ([`HeightMap::patches`]):
+/// reads and cuts of the nodes inside it, as the map's own.
+#[derive(Debug)]
+pub struct Patch<'a> {
+    grid: Grid,
+    z0: f64,
+    rect: TileRect,
+    /// The rectangle's tiles, one slice per tile row.
+    rows: Vec<&'a mut [Option<Tile>]>,
+}
+
+impl Patch<'_> {
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    /// Slot and node index of node `(i, j)`, which must lie in the patch.
+    #[inline]
+    fn slot(&self, i: usize, j: usize) -> (usize, usize, usize) {
+        let (ti, tj) = (i / TILE, j / TILE);
+        debug_assert!(
+            (self.rect.ti[0]..=self.rect.ti[1]).contains(&ti)
+                && (self.rect.tj[0]..=self.rect.tj[1]).contains(&tj),
+            "node ({i}, {j}) outside the patch"
+        );
+        (
+            tj - self.rect.tj[0],
+            ti - self.rect.ti[0],
+            (j % TILE) * TILE + i % TILE,
+        )
+    }
+
+    /// [`HeightMap::node`] inside the patch.
+    #[inline]
+    pub fn node(&self, i: usize, j: usize) -> f64 {
+        let (r, c, k) = self.slot(i, j);
+        match &self.rows[r][c] {
+            Some(tile) => tile.d.z[k],
+            None => self.z0,
+        }
+    }
+
+    /// [`HeightMap::lower_node`] inside the patch.
+    pub fn lower_node(&mut self, i: usize, j: usize, z: f64) {
+        let (r, c, k) = self.slot(i, j);
+        Tile::for_writing(&mut self.rows[r][c], self.z0)
+            .0
+            .lower(k, z);
+    }
+}
+
 /// Tiles are equal when their heights and cut masks are: `z_max` is only a
 /// bound (exact after a load, conservative after cuts), so a state read
 /// back from its bytes equals the one it was written from.
@@ -249,20 +343,10 @@ impl HeightMap {
     /// Node `k` of tile `t` for writing: the tile allocated on first write,
     /// and the node's old value logged when an undo record is open.
     fn tile_mut(&mut self, t: usize, k: usize) -> &mut Tile {
-        if self.tiles[t].is_none() {
-            let z0 = self.z0;
-            self.tiles[t] = Some(Tile {
-                d: Arc::new(TileData {
-                    z: [z0; TILE_NODES],
-                    cut: [0; MASK_WORDS],
-                }),
-                z_max: z0,
-            });
-            if self.undo.open {
-                self.undo.allocated.push(t);
-            }
+        let (tile, allocated) = Tile::for_writing(&mut self.tiles[t], self.z0);
+        if allocated && self.undo.open {
+            self.undo.allocated.push(t);
         }
-        let tile = self.tiles[t].as_mut().expect("allocated above");
         if self.undo.open {
             self.undo.writes.push(Overwritten {
                 tile: t,
@@ -290,13 +374,60 @@ impl HeightMap {
     /// Lowers node `(i, j)` to `z` by a cut or a chip, and marks it cut.
     pub fn lower_node(&mut self, i: usize, j: usize, z: f64) {
         let (t, k) = self.tile_index(i, j);
-        let tile = self.tile_mut(t, k);
-        let d = Arc::make_mut(&mut tile.d);
-        d.z[k] = z;
-        d.cut[k / 64] |= 1u64 << (k % 64);
-        if z > tile.z_max {
-            tile.z_max = z;
+        self.tile_mut(t, k).lower(k, z);
+    }
+
+    /// The tiles holding nodes `i0..=i1` x `j0..=j1`.
+    pub fn tile_rect(&self, i0: usize, i1: usize, j0: usize, j1: usize) -> TileRect {
+        TileRect {
+            ti: [i0 / TILE, i1 / TILE],
+            tj: [j0 / TILE, j1 / TILE],
         }
+    }
+
+    /// Writable views of the given rectangles of tiles, which must not
+    /// overlap (`None` if they do), so that cuts far apart can run at once.
+    /// Only while no undo record is open: a patch's writes are not logged.
+    pub fn patches(&mut self, rects: &[TileRect]) -> Option<Vec<Patch<'_>>> {
+        assert!(!self.undo.open, "patches cannot log undo");
+        // every rectangle is one run of tiles per tile row; the runs of all
+        // rectangles, in directory order, are peeled off the directory
+        let tx = self.tiles_x;
+        let mut runs: Vec<(usize, usize, usize)> = rects
+            .iter()
+            .enumerate()
+            .flat_map(|(r, rc)| {
+                (rc.tj[0]..=rc.tj[1])
+                    .map(move |tj| (tj * tx + rc.ti[0], rc.ti[1] - rc.ti[0] + 1, r))
+            })
+            .collect();
+        runs.sort_unstable();
+        let mut rows: Vec<Vec<&mut [Option<Tile>]>> = rects.iter().map(|_| Vec::new()).collect();
+        let mut rest: &mut [Option<Tile>] = &mut self.tiles;
+        let mut at = 0;
+        for (start, len, r) in runs {
+            if start < at {
+                return None;
+            }
+            let (_, tail) = std::mem::take(&mut rest).split_at_mut(start - at);
+            let (run, tail) = tail.split_at_mut(len);
+            rows[r].push(run);
+            rest = tail;
+            at = start + len;
+        }
+        let (grid, z0) = (self.grid, self.z0);
+        Some(
+            rects
+                .iter()
+                .zip(rows)
+                .map(|(&rect, rows)| Patch {
+                    grid,
+                    z0,
+                    rect,
+                    rows,
+                })
+                .collect(),
+        )
     }
 
     /// Has a cut or a chip lowered node `(i, j)`?
@@ -500,6 +631,27 @@ mod tests {
 
     fn small() -> HeightMap {
         HeightMap::flat(Grid::new(0.0, 1.0, 0.0, 2.0, 11, 21), 0.5)
+    }
+
+    #[test]
+    fn patches_read_and_cut_as_the_map_and_refuse_to_overlap() {
+        let g = Grid::new(0.0, 0.2, 0.0, 0.2, 201, 201);
+        let mut m = HeightMap::flat(g, 0.5);
+        m.lower_node(40, 40, 0.4);
+        let mut want = m.clone();
+        let a = m.tile_rect(30, 70, 35, 50); // tiles 0..=2 x 1..=1
+        let b = m.tile_rect(100, 140, 0, 120); // tiles 3..=4 x 0..=3
+        assert!(!a.overlaps(&b) && a.overlaps(&m.tile_rect(64, 64, 40, 40)));
+        assert!(m.patches(&[a, m.tile_rect(60, 99, 40, 40)]).is_none());
+        let mut p = m.patches(&[b, a]).unwrap();
+        assert_eq!(p[1].node(40, 40), 0.4);
+        assert_eq!(p[1].node(70, 50), 0.5);
+        p[1].lower_node(33, 47, 0.3);
+        p[0].lower_node(140, 0, 0.2);
+        want.lower_node(33, 47, 0.3);
+        want.lower_node(140, 0, 0.2);
+        assert!(m == want);
+        assert!(m.is_cut(140, 0) && m.is_cut(33, 47));
     }
 
     #[test]

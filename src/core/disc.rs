@@ -309,42 +309,89 @@ pub fn commit_paths(
             })
         })
         .collect();
-    let n = plans
+    // each disc's own sub-steps (1 without a path: only the new pose)
+    let counts: Vec<usize> = plans
         .iter()
         .zip(motions)
         .zip(discs.iter())
-        .filter_map(|((plan, (pose, _)), d)| {
-            let (prev, q0, q1) = plan.as_ref()?;
-            let travel = (pose.position - prev.position).norm() + q0.angle_to(q1) * d.cutter.radius;
-            Some(
+        .map(|((plan, (pose, _)), d)| {
+            plan.as_ref().map_or(1, |(prev, q0, q1)| {
+                let travel =
+                    (pose.position - prev.position).norm() + q0.angle_to(q1) * d.cutter.radius;
                 (travel / params.numerics.sweep_step)
                     .ceil()
-                    .clamp(1.0, 1.0e6) as usize,
-            )
+                    .clamp(1.0, 1.0e6) as usize
+            })
         })
-        .max()
-        .unwrap_or(1);
-    let mut changed = false;
-    for k in 1..n {
+        .collect();
+    let (changed, _) = cut_in_time_order(face, discs, states, params, &counts, |k, n| {
         let t = k as f64 / n as f64;
-        for (i, plan) in plans.iter().enumerate() {
-            if let Some((prev, q0, q1)) = plan {
-                let pose = &motions[i].0;
-                let q = q0.slerp(q1, t);
-                let p = prev.position + (pose.position - prev.position) * t;
-                let at = Pose::from_rotation(p, &q.to_rotation_matrix());
-                changed |= discs[i].cut_at(face, &mut states[i], &at, &motions[i].1, params);
-            }
-        }
-    }
-    for (i, (pose, twist)) in motions.iter().enumerate() {
-        changed |= discs[i].cut_at(face, &mut states[i], pose, twist, params);
-        states[i].last_cut = Some(*pose);
+        Ok(plans
+            .iter()
+            .zip(motions)
+            .map(|(plan, &(pose, twist))| match plan {
+                Some((prev, q0, q1)) if k < n => {
+                    let q = q0.slerp(q1, t);
+                    let p = prev.position + (pose.position - prev.position) * t;
+                    (Pose::from_rotation(p, &q.to_rotation_matrix()), twist)
+                }
+                _ => (pose, twist),
+            })
+            .collect())
+    })?;
+    for (s, (pose, _)) in states.iter_mut().zip(motions) {
+        s.last_cut = Some(*pose);
     }
     if changed {
         discs.iter().for_each(Disc::forget);
     }
     Ok(changed)
+}
+
+/// Cuts disc `i` at its `counts[i]` times `k / counts[i]` (`k = 1..=`
+/// `counts[i]`) of a step, in time order (exact: `k1 / n1 < k2 / n2 <=> k1
+/// n2 < k2 n1`), discs in layout order at equal times: a fixed order. `at(k,
+/// n)` gives every disc's pose and twist at time `k / n` of the step; the
+/// poses of the discs that cut then are validated. Returns whether the face
+/// changed, and the motions at the step's end (`k / n = 1`, every disc's
+/// last cut).
+fn cut_in_time_order(
+    face: &mut Face,
+    discs: &[Disc],
+    states: &mut [DiscState],
+    params: &Params,
+    counts: &[usize],
+    mut at: impl FnMut(usize, usize) -> Result<Vec<(Pose, Twist)>>,
+) -> Result<(bool, Vec<(Pose, Twist)>)> {
+    let mut cuts: Vec<(usize, usize, usize)> = counts
+        .iter()
+        .enumerate()
+        .flat_map(|(i, &n)| (1..=n).map(move |k| (k, n, i)))
+        .collect();
+    cuts.sort_by(|a, b| (a.0 * b.1).cmp(&(b.0 * a.1)).then(a.2.cmp(&b.2)));
+    let mut end = Vec::new();
+    let mut changed = false;
+    let mut rest = &cuts[..];
+    while let Some(&(k, n, _)) = rest.first() {
+        // the discs that cut at time k / n, in layout order
+        let same = rest.partition_point(|c| c.0 * n == k * c.1);
+        let group: Vec<usize> = rest[..same].iter().map(|c| c.2).collect();
+        rest = &rest[same..];
+        end = at(k, n)?;
+        for &i in &group {
+            end[i].0.validate()?;
+        }
+        if params.chipping.enabled || group.len() == 1 {
+            // a chip reaches past its disc's window: one disc at a time
+            for &i in &group {
+                let (pose, twist) = &end[i];
+                changed |= discs[i].cut_at(face, &mut states[i], pose, twist, params);
+            }
+        } else {
+            changed |= cut_together(face, discs, &group, &end, params);
+        }
+    }
+    Ok((changed, end))
 }
 
 /// Moves the discs along their paths for `h` seconds and cuts the face along
@@ -395,35 +442,9 @@ pub fn sweep(
             }
         }
     }
-    // every disc's cut times k / n as (k, n, disc), in time order (exact:
-    // k1 / n1 < k2 / n2 <=> k1 n2 < k2 n1), ties in layout order
-    let mut cuts: Vec<(usize, usize, usize)> = counts
-        .iter()
-        .enumerate()
-        .flat_map(|(i, &n)| (1..=n).map(move |k| (k, n, i)))
-        .collect();
-    cuts.sort_by(|a, b| (a.0 * b.1).cmp(&(b.0 * a.1)).then(a.2.cmp(&b.2)));
-    let mut end = start.to_vec();
-    let mut rest = &cuts[..];
-    while let Some(&(k, n, _)) = rest.first() {
-        // the discs that cut at time k / n, in layout order
-        let same = rest.partition_point(|c| c.0 * n == k * c.1);
-        let group: Vec<usize> = rest[..same].iter().map(|c| c.2).collect();
-        rest = &rest[same..];
-        end = path(h * k as f64 / n as f64)?;
-        for &i in &group {
-            end[i].0.validate()?;
-        }
-        if params.chipping.enabled || group.len() == 1 {
-            // a chip reaches past its disc's window: one disc at a time
-            for &i in &group {
-                let (pose, twist) = &end[i];
-                discs[i].cut_at(face, &mut states[i], pose, twist, params);
-            }
-        } else {
-            cut_together(face, discs, &group, &end, params);
-        }
-    }
+    let (_, end) = cut_in_time_order(face, discs, states, params, counts, |k, n| {
+        path(h * k as f64 / n as f64)
+    })?;
     // the last time is k / n = 1 for every disc: `end` holds the motions at h
     discs.iter().for_each(Disc::forget);
     let o1 = evaluate_all(discs, &face.map, &end, params);
@@ -448,14 +469,15 @@ pub fn sweep(
 /// wave's cuts touch disjoint tiles, so they commute, and a disc that shares
 /// tiles with an earlier one cuts after it, as in layout order. The face is
 /// therefore the one the sequential cuts leave, for any number of threads,
-/// and the removed volume is summed in layout order.
+/// and the removed volume is summed in layout order. Returns whether the
+/// face changed.
 fn cut_together(
     face: &mut Face,
     discs: &[Disc],
     group: &[usize],
     motions: &[(Pose, Twist)],
     params: &Params,
-) {
+) -> bool {
     let (elastic, fraction) = (params.numerics.elastic_depth, params.rock.plastic_fraction);
     let posed: Vec<PosedDisc> = group
         .iter()
@@ -502,12 +524,15 @@ fn cut_together(
             stats[a] = st;
         }
     }
+    let mut changed = false;
     for (&i, st) in group.iter().zip(&stats) {
         face.excavated_volume += st.volume;
         if st.nodes > 0 {
             discs[i].forget();
+            changed = true;
         }
     }
+    changed
 }
 
 /// Sub-steps of a sweep in which no rim point of a disc whose centre moves

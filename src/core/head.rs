@@ -17,12 +17,13 @@
 //! origin (head drive) or the rock origin (disc drive).
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
+use rayon::prelude::*;
 
 use super::disc::{commit_paths, sub_steps, sweep, Disc, DiscState};
 use super::error::{KerfError, Result};
 use super::face::blob;
 use super::face::{grid_of, Face};
-use super::heightmap::HeightMap;
+use super::heightmap::{HeightMap, TileRect, TILE};
 use super::layout::{CutterSpec, Layout};
 use super::model::{check_step, Outputs};
 use super::params::{CutterParams, Params};
@@ -567,28 +568,55 @@ impl Head {
             return Ok(());
         };
         let two_pi = std::f64::consts::TAU;
-        for j in j0..=j1 {
-            for i in i0..=i1 {
-                let (x, y) = g.node_xy(i, j);
-                let rho = x.hypot(y);
-                if rho > edge {
-                    continue;
-                }
-                let phi = y.atan2(x);
-                let k = tracks.partition_point(|(t, _)| *t < rho);
-                let near = match (k.checked_sub(1), tracks.get(k)) {
-                    (Some(a), Some(b)) if rho - tracks[a].0 > b.0 - rho => k,
-                    (Some(a), _) => a,
-                    (None, _) => 0,
-                };
-                let z = tracks[near]
+        let z0 = map.base_height();
+        let depth = |x: f64, y: f64| {
+            let rho = (x * x + y * y).sqrt();
+            if rho > edge {
+                return None;
+            }
+            let phi = y.atan2(x);
+            let k = tracks.partition_point(|(t, _)| *t < rho);
+            let near = match (k.checked_sub(1), tracks.get(k)) {
+                (Some(a), Some(b)) if rho - tracks[a].0 > b.0 - rho => k,
+                (Some(a), _) => a,
+                (None, _) => 0,
+            };
+            Some(
+                tracks[near]
                     .1
                     .iter()
-                    .map(|&(a, setback)| setback + p_rev * (a - phi).rem_euclid(two_pi) / two_pi)
-                    .fold(f64::INFINITY, f64::min);
-                map.set_node(i, j, map.base_height() + z);
-            }
-        }
+                    .map(|&(a, setback)| {
+                        // the fraction of a turn from the disc back to phi
+                        let u = (a - phi) / two_pi;
+                        setback + p_rev * (u - u.floor())
+                    })
+                    .fold(f64::INFINITY, f64::min),
+            )
+        };
+        // one patch a row of tiles, filled in parallel (a 10 m face holds
+        // about 80 million nodes inside the gauge)
+        let all = map.tile_rect(i0, i1, j0, j1);
+        let rows: Vec<TileRect> = (all.tj[0]..=all.tj[1])
+            .map(|tj| TileRect {
+                ti: all.ti,
+                tj: [tj, tj],
+            })
+            .collect();
+        let patches = map.patches(&rows).expect("rows of tiles do not overlap");
+        patches
+            .into_par_iter()
+            .zip(rows.par_iter())
+            .for_each(|(mut patch, r)| {
+                let (ja, jb) = ((r.tj[0] * TILE).max(j0), ((r.tj[0] + 1) * TILE - 1).min(j1));
+                for j in ja..=jb {
+                    for i in i0..=i1 {
+                        let (x, y) = g.node_xy(i, j);
+                        if let Some(z) = depth(x, y) {
+                            patch.set_node(i, j, z0 + z);
+                        }
+                    }
+                }
+            });
         self.discs.iter().for_each(Disc::forget);
         Ok(())
     }

@@ -64,8 +64,16 @@ impl Tile {
         (tile, allocated)
     }
 
-    /// Lowers node `k` to `z` and marks it cut (copy on write: a tile shared
-    /// with a snapshot is copied here, once).
+    /// Sets node `k` to `z` (copy on write: a tile shared with a snapshot
+    /// is copied here, once).
+    fn set(&mut self, k: usize, z: f64) {
+        Arc::make_mut(&mut self.d).z[k] = z;
+        if z > self.z_max {
+            self.z_max = z;
+        }
+    }
+
+    /// Lowers node `k` to `z` and marks it cut (copy on write, as `set`).
     fn lower(&mut self, k: usize, z: f64) {
         let d = Arc::make_mut(&mut self.d);
         d.z[k] = z;
@@ -132,6 +140,12 @@ impl Patch<'_> {
             Some(tile) => tile.d.z[k],
             None => self.z0,
         }
+    }
+
+    /// [`HeightMap::set_node`] inside the patch.
+    pub fn set_node(&mut self, i: usize, j: usize, z: f64) {
+        let (r, c, k) = self.slot(i, j);
+        Tile::for_writing(&mut self.rows[r][c], self.z0).0.set(k, z);
     }
 
     /// [`HeightMap::lower_node`] inside the patch.
@@ -363,12 +377,7 @@ impl HeightMap {
     /// being loaded: the node does not count as cut).
     pub fn set_node(&mut self, i: usize, j: usize, z: f64) {
         let (t, k) = self.tile_index(i, j);
-        let tile = self.tile_mut(t, k);
-        // copy on write: a tile shared with a snapshot is copied here, once
-        Arc::make_mut(&mut tile.d).z[k] = z;
-        if z > tile.z_max {
-            tile.z_max = z;
-        }
+        self.tile_mut(t, k).set(k, z);
     }
 
     /// Lowers node `(i, j)` to `z` by a cut or a chip, and marks it cut.

@@ -136,23 +136,34 @@ pub fn window_nodes(map: &HeightMap, disc: &PosedDisc) -> usize {
     })
 }
 
-/// Read access to the nodes, and writes where the caller may write.
+/// The nodes a cut walks, a row at a time: `lower_row(j, i0, i1, f)` runs
+/// `f` over the heights of nodes `i0..=i1` of row `j` in order and lowers
+/// each node for which it returns a height. A read-only view stops at the
+/// first such node instead and returns `true`.
 trait Nodes {
     fn grid(&self) -> &Grid;
-    fn node(&self, i: usize, j: usize) -> f64;
-    fn set(&mut self, i: usize, j: usize, z: f64);
+    fn lower_row(
+        &mut self,
+        j: usize,
+        i0: usize,
+        i1: usize,
+        f: impl FnMut(f64) -> Option<f64>,
+    ) -> bool;
 }
 
 impl Nodes for HeightMap {
     fn grid(&self) -> &Grid {
         HeightMap::grid(self)
     }
-    #[inline]
-    fn node(&self, i: usize, j: usize) -> f64 {
-        HeightMap::node(self, i, j)
-    }
-    fn set(&mut self, i: usize, j: usize, z: f64) {
-        self.lower_node(i, j, z);
+    fn lower_row(
+        &mut self,
+        j: usize,
+        i0: usize,
+        i1: usize,
+        f: impl FnMut(f64) -> Option<f64>,
+    ) -> bool {
+        HeightMap::lower_row(self, j, i0, i1, f);
+        false
     }
 }
 
@@ -160,12 +171,15 @@ impl Nodes for Patch<'_> {
     fn grid(&self) -> &Grid {
         Patch::grid(self)
     }
-    #[inline]
-    fn node(&self, i: usize, j: usize) -> f64 {
-        Patch::node(self, i, j)
-    }
-    fn set(&mut self, i: usize, j: usize, z: f64) {
-        self.lower_node(i, j, z);
+    fn lower_row(
+        &mut self,
+        j: usize,
+        i0: usize,
+        i1: usize,
+        f: impl FnMut(f64) -> Option<f64>,
+    ) -> bool {
+        Patch::lower_row(self, j, i0, i1, f);
+        false
     }
 }
 
@@ -176,11 +190,15 @@ impl Nodes for ReadOnly<'_> {
     fn grid(&self) -> &Grid {
         self.0.grid()
     }
-    #[inline]
-    fn node(&self, i: usize, j: usize) -> f64 {
-        self.0.node(i, j)
+    fn lower_row(
+        &mut self,
+        j: usize,
+        i0: usize,
+        i1: usize,
+        mut f: impl FnMut(f64) -> Option<f64>,
+    ) -> bool {
+        (i0..=i1).any(|i| f(self.0.node(i, j)).is_some())
     }
-    fn set(&mut self, _: usize, _: usize, _: f64) {}
 }
 
 /// Walks the nodes of the window that lie more than `elastic_depth +
@@ -218,10 +236,11 @@ fn sweep_nodes<M: Nodes>(
         } else {
             f64::NEG_INFINITY
         };
-        for i in i0..=i1 {
-            if map.node(i, j) <= floor {
+        let stats = &mut stats;
+        let stopped = map.lower_row(j, i0, i1, |z| {
+            if z <= floor {
                 a += step;
-                continue;
+                return None;
             }
             // local coordinates are affine along a row
             let q = a;
@@ -230,33 +249,34 @@ fn sweep_nodes<M: Nodes>(
                 // axle horizontal: the lower boundary is the rim circle of
                 // radius rho(y_local)
                 if q.y.abs() > h {
-                    continue;
+                    return None;
                 }
                 let rho = disc.rho_full(q.y);
                 let b = q.x * d.x + q.z * d.z;
                 let disc2 = b * b - (q.x * q.x + q.z * q.z - rho * rho);
                 if disc2 < 0.0 {
-                    continue;
+                    return None;
                 }
                 -b - disc2.sqrt()
             } else {
-                let cap = map.node(i, j) - elastic_depth - CUT_TOLERANCE;
-                match disc.column_lower_end(&q, &d, cap) {
-                    Some((zl, _)) => zl,
-                    None => continue,
-                }
+                let cap = z - elastic_depth - CUT_TOLERANCE;
+                disc.column_lower_end(&q, &d, cap)?.0
             };
-            let z = map.node(i, j);
             let excess = z - (z_low + elastic_depth);
-            if excess > CUT_TOLERANCE {
-                let Some(f) = fraction else {
-                    return (stats, true);
-                };
-                let drop = f * excess;
-                map.set(i, j, z - drop);
-                stats.volume += drop * area;
-                stats.nodes += 1;
+            if excess <= CUT_TOLERANCE {
+                return None;
             }
+            // without a fraction (a probe) the node only tells that it would fall
+            let Some(f) = fraction else {
+                return Some(z);
+            };
+            let drop = f * excess;
+            stats.volume += drop * area;
+            stats.nodes += 1;
+            Some(z - drop)
+        });
+        if stopped {
+            return (*stats, true);
         }
     }
     (stats, stats.nodes > 0)

@@ -84,6 +84,55 @@ impl Tile {
     }
 }
 
+/// Runs `f(z)` over nodes `k0, k0 + 1, ..` (`n` of them) of the tile in
+/// `slot`, in order; where it returns a height the node is lowered to it and
+/// marked cut. Until the first write the tile is only read (an untouched one
+/// reads `z0`); at the first write it is allocated or unshared once, and
+/// `log(k, z, cut_word, z_max)` hears what each write overwrites.
+fn lower_run(
+    slot: &mut Option<Tile>,
+    z0: f64,
+    k0: usize,
+    n: usize,
+    f: &mut impl FnMut(f64) -> Option<f64>,
+    mut log: impl FnMut(usize, f64, u64, f64),
+    on_alloc: impl FnOnce(),
+) {
+    let mut k = k0;
+    let end = k0 + n;
+    let first = loop {
+        if k == end {
+            return;
+        }
+        let z = slot.as_ref().map_or(z0, |t| t.d.z[k]);
+        k += 1;
+        if let Some(nz) = f(z) {
+            break nz;
+        }
+    };
+    let (tile, allocated) = Tile::for_writing(slot, z0);
+    if allocated {
+        on_alloc();
+    }
+    let Tile { d, z_max } = tile;
+    let d = Arc::make_mut(d);
+    let mut write = |d: &mut TileData, k: usize, nz: f64| {
+        log(k, d.z[k], d.cut[k / 64], *z_max);
+        d.z[k] = nz;
+        d.cut[k / 64] |= 1u64 << (k % 64);
+        if nz > *z_max {
+            *z_max = nz;
+        }
+    };
+    write(d, k - 1, first);
+    while k < end {
+        if let Some(nz) = f(d.z[k]) {
+            write(d, k, nz);
+        }
+        k += 1;
+    }
+}
+
 /// A rectangle of tiles: columns `ti[0]..=ti[1]`, rows `tj[0]..=tj[1]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TileRect {
@@ -146,6 +195,31 @@ impl Patch<'_> {
     pub fn set_node(&mut self, i: usize, j: usize, z: f64) {
         let (r, c, k) = self.slot(i, j);
         Tile::for_writing(&mut self.rows[r][c], self.z0).0.set(k, z);
+    }
+
+    /// [`HeightMap::lower_row`] inside the patch.
+    pub fn lower_row(
+        &mut self,
+        j: usize,
+        i0: usize,
+        i1: usize,
+        mut f: impl FnMut(f64) -> Option<f64>,
+    ) {
+        let mut i = i0;
+        while i <= i1 {
+            let last = ((i / TILE + 1) * TILE - 1).min(i1);
+            let (r, c, k) = self.slot(i, j);
+            lower_run(
+                &mut self.rows[r][c],
+                self.z0,
+                k,
+                last - i + 1,
+                &mut f,
+                |_, _, _, _| {},
+                || {},
+            );
+            i = last + 1;
+        }
     }
 
     /// [`HeightMap::lower_node`] inside the patch.
@@ -384,6 +458,50 @@ impl HeightMap {
     pub fn lower_node(&mut self, i: usize, j: usize, z: f64) {
         let (t, k) = self.tile_index(i, j);
         self.tile_mut(t, k).lower(k, z);
+    }
+
+    /// Runs `f(z)` over the heights of nodes `i0..=i1` of row `j`, in order,
+    /// and lowers each node for which it returns a height to that height (as
+    /// [`lower_node`](Self::lower_node), undo record included). A cut's row
+    /// at a time: each tile is looked up and unshared once, not per node.
+    pub fn lower_row(
+        &mut self,
+        j: usize,
+        i0: usize,
+        i1: usize,
+        mut f: impl FnMut(f64) -> Option<f64>,
+    ) {
+        let mut i = i0;
+        while i <= i1 {
+            let last = ((i / TILE + 1) * TILE - 1).min(i1);
+            let (t, k) = self.tile_index(i, j);
+            let undo = &mut self.undo;
+            let open = undo.open;
+            let mut allocated = false;
+            lower_run(
+                &mut self.tiles[t],
+                self.z0,
+                k,
+                last - i + 1,
+                &mut f,
+                |node, z, cut_word, z_max| {
+                    if open {
+                        undo.writes.push(Overwritten {
+                            tile: t,
+                            node,
+                            z,
+                            cut_word,
+                            z_max,
+                        });
+                    }
+                },
+                || allocated = true,
+            );
+            if allocated && self.undo.open {
+                self.undo.allocated.push(t);
+            }
+            i = last + 1;
+        }
     }
 
     /// The tiles holding nodes `i0..=i1` x `j0..=j1`.
@@ -640,6 +758,37 @@ mod tests {
 
     fn small() -> HeightMap {
         HeightMap::flat(Grid::new(0.0, 1.0, 0.0, 2.0, 11, 21), 0.5)
+    }
+
+    #[test]
+    fn a_row_lowers_as_its_nodes_do_and_rolls_back() {
+        let g = Grid::new(0.0, 0.2, 0.0, 0.2, 201, 201);
+        let mut m = HeightMap::flat(g, 0.5);
+        m.set_node(40, 7, 0.45);
+        let snapshot = m.clone(); // shares the tile: the row must unshare it
+        let before = m.clone();
+        let mut want = m.clone();
+        // a row across three tiles (0, 1, 2; tile 2 untouched so far)
+        let lower = |i: usize, z: f64| (i % 3 == 0).then_some(z - 1e-3 * i as f64);
+        for i in 20..=70 {
+            if let Some(z) = lower(i, want.node(i, 7)) {
+                want.lower_node(i, 7, z);
+            }
+        }
+        m.begin_undo();
+        let mut i = 20;
+        m.lower_row(7, 20, 70, |z| {
+            let out = lower(i, z);
+            i += 1;
+            out
+        });
+        assert_eq!(i, 71, "every node seen once");
+        let mut kept = m.clone();
+        kept.commit_undo();
+        assert!(kept == want && m.is_cut(69, 7) && !m.is_cut(70, 7));
+        assert!(snapshot == before, "the snapshot's tile was not written");
+        m.rollback();
+        assert!(m == before);
     }
 
     #[test]

@@ -769,7 +769,7 @@ mod tests {
         let before = m.clone();
         let mut want = m.clone();
         // a row across three tiles (0, 1, 2; tile 2 untouched so far)
-        let lower = |i: usize, z: f64| (i % 3 == 0).then_some(z - 1e-3 * i as f64);
+        let lower = |i: usize, z: f64| i.is_multiple_of(3).then_some(z - 1e-3 * i as f64);
         for i in 20..=70 {
             if let Some(z) = lower(i, want.node(i, 7)) {
                 want.lower_node(i, 7, z);

@@ -212,7 +212,7 @@ fn a_cutterhead_boring_with_chipping_keeps_its_face_level() {
     // the loads of the last revolution against the CSM at p per revolution
     // (reported, not asserted: issue 9 item 2)
     for (i, d) in on.discs().iter().enumerate() {
-        let law = d.law();
+        let law = d.law().closed_form();
         let phi = kerf::core::csm::contact_angle(d.cutter().radius, P_REV);
         let csm = law.force(P_REV) * law.resultant_angle(phi).cos();
         eprintln!(

@@ -335,6 +335,23 @@ fn the_calibrated_pressure_brings_the_relieved_mean_to_the_closed_form() {
         p.chipping.pressure_scale = 1.0;
         let (m_one, one) = long_series(p, s, len, window);
         let (a, b) = (means(&cal), means(&one));
+        if seed == 1 {
+            // the saw-tooth and the work of the rolling force (reported)
+            let f: Vec<f64> = cal.iter().map(|o| o.normal_force).collect();
+            let (lo, hi) = f
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
+            let cv = (mean(&cal, |o| (o.normal_force - a[0]).powi(2))).sqrt() / a[0];
+            let travel = window.1 - window.0;
+            let (e0, e1) = (cal[0].cutting_energy, cal.last().unwrap().cutting_energy);
+            eprintln!(
+                "seed 1, pressureScale {scale}: normal force {:.1} to {:.1} kN (CV {cv:.3}); rolling force x travel {:.1} kJ vs cutting energy {:.1} kJ over {travel} m",
+                lo / 1e3,
+                hi / 1e3,
+                a[1] * travel / 1e3,
+                (e1 - e0) / 1e3
+            );
+        }
         show_means(
             &format!("seed {seed}, chips, pressureScale {scale}"),
             a,

@@ -133,6 +133,11 @@ fn xml_start_values_equal_params_default() {
             real("chipping.lengthSpread"),
             d.chipping.length_spread,
         ),
+        (
+            "chipping.pressureScale",
+            real("chipping.pressureScale"),
+            d.chipping.pressure_scale,
+        ),
     ];
     assert_eq!(s["chipping.enabled"], d.chipping.enabled.to_string());
     for (name, xml, core) in checks {

@@ -44,6 +44,7 @@ fn set(p: &mut Params, name: &str, v: f64) {
         "chipping.kappa" => p.chipping.kappa = v,
         "chipping.length" => p.chipping.length = v,
         "chipping.lengthSpread" => p.chipping.length_spread = v,
+        "chipping.pressureScale" => p.chipping.pressure_scale = v,
         other => panic!("no setter for {other}"),
     }
 }

@@ -19,7 +19,10 @@
 // - numerics: below/above these the model either does unbounded work
 //   (arc step, sweep step) or its results stop meaning anything (elastic
 //   depth past 1 mm is not an elastic layer; psi <= -1 has no pressure
-//   distribution).
+//   distribution);
+// - chipping.pressureScale: a factor on the CSM pressure, 0.1 to 10 (its
+//   calibrated default is 1.56; a factor of 10 either way is no longer a
+//   calibration of the same law).
 pub const PARAMETER_BOUNDS: &[(&str, f64, f64)] = &[
     ("cutter.radius", 0.02, 2.0),
     ("cutter.tipWidth", 1e-4, 0.2),
@@ -49,6 +52,7 @@ pub const PARAMETER_BOUNDS: &[(&str, f64, f64)] = &[
     ("chipping.kappa", 1.0, 100.0),
     ("chipping.length", 1e-3, 1.0),
     ("chipping.lengthSpread", 0.0, 0.95),
+    ("chipping.pressureScale", 0.1, 10.0),
 ];
 
 // Rules between parameters (checked at fmi2ExitInitializationMode):

@@ -10,6 +10,10 @@
 //! * below `p_reg` the law, whose slope `dF/dp` grows like `1/sqrt(p)` at
 //!   `p -> 0`, is replaced by the quadratic `F(p) = a p + b p^2` with the same
 //!   value and slope at `p_reg` (finite slope `a` at first touch, `F(0) = 0`).
+//!
+//! A law may carry a factor on its pressure `P'` ([`CsmLaw::scaled`]): the
+//! disc's law with chipping on (`chipping.pressureScale`). [`CsmLaw::new`]
+//! is the closed form itself (factor exactly 1).
 
 use super::params::{CsmParams, CsmVariant, CutterParams};
 
@@ -29,17 +33,28 @@ pub struct CsmLaw {
     cutter: CutterParams,
     csm: CsmParams,
     p_reg: f64,
+    /// Factor on the base pressure `P'` (1: the closed form).
+    pressure_scale: f64,
     /// `F(p_reg)` and `dF/dp(p_reg)` of the unregularised law.
     f_reg: f64,
     df_reg: f64,
 }
 
 impl CsmLaw {
+    /// The CSM law of `cutter` on `csm`, regularised below `p_reg`.
     pub fn new(cutter: CutterParams, csm: CsmParams, p_reg: f64) -> Self {
+        Self::scaled(cutter, csm, p_reg, 1.0)
+    }
+
+    /// The law with its base pressure `P'` times `pressure_scale` (> 0): every
+    /// force of the law, its regularisation included, scales with it. A
+    /// factor of exactly 1 is [`CsmLaw::new`], bit for bit.
+    pub fn scaled(cutter: CutterParams, csm: CsmParams, p_reg: f64, pressure_scale: f64) -> Self {
         let mut law = Self {
             cutter,
             csm,
             p_reg,
+            pressure_scale,
             f_reg: 0.0,
             df_reg: 0.0,
         };
@@ -49,8 +64,8 @@ impl CsmLaw {
         law
     }
 
-    /// Base pressure `P'` \[Pa\] at penetration `p` and contact angle `phi`.
-    /// Never negative (the regressions can go negative far outside Table 1).
+    /// Base pressure `P'` \[Pa\] at penetration `p` and contact angle `phi`,
+    /// times the law's pressure factor. Never negative (the regressions can go negative far outside Table 1).
     pub fn base_pressure(&self, p: f64, phi: f64) -> f64 {
         let (c, s) = (&self.cutter, &self.csm);
         let sqrt_rt = (c.radius * c.tip_width).sqrt();
@@ -85,7 +100,17 @@ impl CsmLaw {
                     * PA_PER_PSI
             }
         };
-        pp.max(0.0)
+        pp.max(0.0) * self.pressure_scale
+    }
+
+    /// The factor on the base pressure (1: the closed form).
+    pub fn pressure_scale(&self) -> f64 {
+        self.pressure_scale
+    }
+
+    /// The same law without the factor: the CSM closed form.
+    pub fn closed_form(&self) -> Self {
+        Self::new(self.cutter, self.csm, self.p_reg)
     }
 
     /// Unregularised resultant `F_t = T R phi P' / (1 + psi)` \[N\].
@@ -292,6 +317,23 @@ mod tests {
         )
         .range_warnings(0.0038);
         assert!(w.iter().any(|m| m.contains("penetration")), "{w:?}");
+    }
+
+    #[test]
+    fn a_pressure_factor_scales_every_force_and_a_factor_of_one_is_the_closed_form() {
+        let l = law(CsmVariant::Thesis, 0.0);
+        let one = CsmLaw::scaled(CutterParams::default(), CsmParams::default(), 5e-5, 1.0);
+        assert_eq!(one, l);
+        let k = 1.55;
+        let s = CsmLaw::scaled(CutterParams::default(), CsmParams::default(), 5e-5, k);
+        assert_eq!(s.closed_form(), l);
+        assert_eq!(s.pressure_scale(), k);
+        // above and below p_reg (the regularisation's ratio is the same)
+        for p in [1e-6, 3e-5, 5e-5, 0.0038, 0.02] {
+            assert!(rel(s.force(p), k * l.force(p)) < 1e-12, "{p}");
+            assert!((s.regularisation(p) - l.regularisation(p)).abs() < 1e-12);
+        }
+        assert_eq!(s.resultant_angle(0.2), l.resultant_angle(0.2));
     }
 
     #[test]

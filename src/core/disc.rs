@@ -77,11 +77,13 @@ impl DiscState {
 
 impl Disc {
     /// A disc of geometry `cutter` under the CSM law `csm` (its spacing is
-    /// this disc's). `p_reg` regularises the law at zero penetration.
-    pub fn new(cutter: CutterParams, csm: CsmParams, p_reg: f64) -> Self {
+    /// this disc's), its pressure times `pressure_scale`
+    /// (`ChipParams::pressure_scale_in_use`: 1 without chips). `p_reg`
+    /// regularises the law at zero penetration.
+    pub fn new(cutter: CutterParams, csm: CsmParams, p_reg: f64, pressure_scale: f64) -> Self {
         Self {
             cutter,
-            law: CsmLaw::new(cutter, csm, p_reg),
+            law: CsmLaw::scaled(cutter, csm, p_reg, pressure_scale),
             cache: Cell::new(None),
         }
     }

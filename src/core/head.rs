@@ -268,7 +268,12 @@ impl Head {
             .iter()
             .map(|s| {
                 let p = Self::disc_params(&params, s);
-                Disc::new(p.cutter, p.csm, p.numerics.p_reg)
+                Disc::new(
+                    p.cutter,
+                    p.csm,
+                    p.numerics.p_reg,
+                    p.chipping.pressure_scale_in_use(),
+                )
             })
             .collect();
         let state = HeadState {

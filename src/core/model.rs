@@ -253,7 +253,12 @@ impl Model {
     pub fn new(params: Params) -> Result<Self> {
         params.validate()?;
         let face = Face::new(&params.rock)?;
-        let disc = Disc::new(params.cutter, params.csm, params.numerics.p_reg);
+        let disc = Disc::new(
+            params.cutter,
+            params.csm,
+            params.numerics.p_reg,
+            params.chipping.pressure_scale_in_use(),
+        );
         let state = ModelState {
             face,
             disc: DiscState::new(&params),

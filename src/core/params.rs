@@ -360,6 +360,7 @@ impl Params {
             ("chipping.kappa", ch.kappa),
             ("chipping.length", ch.length),
             ("chipping.lengthSpread", ch.length_spread),
+            ("chipping.pressureScale", ch.pressure_scale),
         ] {
             check_bounds(name, v)?;
         }

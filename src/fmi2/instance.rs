@@ -161,6 +161,7 @@ impl Values {
                 kappa: self.real(vr::CHIPPING_KAPPA),
                 length: self.real(vr::CHIPPING_LENGTH),
                 length_spread: self.real(vr::CHIPPING_LENGTH_SPREAD),
+                pressure_scale: self.real(vr::CHIPPING_PRESSURE_SCALE),
             },
         })
     }

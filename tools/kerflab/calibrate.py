@@ -6,8 +6,8 @@ tip_radius_mm, ucs_MPa, bts_MPa set the disc and the rock where given (FMU
 defaults elsewhere); every result column that is filled (by default Fn_kN,
 Fr_kN, Fs_kN, SE_MJm3; --observables picks others) is an observation.
 
-The fit: for parameters theta (C = csm.C, psi = csm.psi, mu = friction.mu, or
-any FMU parameter by name), every row is run as an LCM block
+The fit: for parameters theta (C = csm.C, psi = csm.psi, mu = friction.mu,
+pscale = chipping.pressureScale, or any FMU parameter by name), every row is run as an LCM block
 (kerflab.lcm.run_block) and scipy.optimize.least_squares minimises
 sum r^2 / 2, r = (model - measured) / (sigma |measured|): sigma is the
 relative standard uncertainty of a measured mean (--sigma, default 0.1; LCM
@@ -52,6 +52,9 @@ ALIASES = {
     "psi": ("csm.psi", (-0.5, 2.0), 0.01),
     "mu": ("friction.mu", (0.0, 2.0), 0.01),
     "kappa": ("chipping.kappa", (0.5, 200.0), None),
+    # the factor on the CSM pressure with chips on; with csm.variant 1 or 2 it
+    # acts as C does (both multiply P'), so fit one of the two
+    "pscale": ("chipping.pressureScale", (0.1, 10.0), 0.01),
 }
 OBSERVABLES = ["Fn_kN", "Fr_kN", "Fs_kN", "SE_MJm3"]
 

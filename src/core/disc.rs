@@ -563,7 +563,7 @@ mod tests {
         (p.rock.nx, p.rock.ny) = (1201, 1201);
         // half plastic: a node two discs cut ends where the order puts it
         p.rock.plastic_fraction = 0.5;
-        let disc = Disc::new(p.cutter, p.csm, p.numerics.p_reg);
+        let disc = Disc::new(p.cutter, p.csm, p.numerics.p_reg, 1.0);
         let at = |x: f64, y: f64, depth: f64, yaw: f64, roll: f64| {
             let probe = Pose::new(0.0, 0.0, 1.0, 0.0, 0.0, roll);
             let low = disc.posed(&probe).lowest_point();

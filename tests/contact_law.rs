@@ -64,7 +64,10 @@ fn a_pass_beside_a_groove_charges_the_rock_it_removes() {
     let f = fresh_ref();
     let w_fresh = f.rolling_work_per_volume();
     let mut last = [0.0f64; 2];
-    for d_mm in [0.0, 1.0, 2.0, 4.0, 6.0, 8.0, 10.0, 13.0] {
+    // (at 13 mm the tip's edge lies on the first groove's wall, which the
+    // 1 mm map blurs over a cell: the oracle too finds 3 % of FN less than
+    // the fresh cut there; one cell further the passes share no cell)
+    for d_mm in [0.0, 1.0, 2.0, 4.0, 6.0, 8.0, 10.0, 13.0, 14.0] {
         let m = beside(1e-3, P_REF, d_mm * 1e-3);
         let (n, r) = (m.cutting[0], m.cutting[1]);
         // the forces rise with d to the fresh cut's (0.5 % FN of slack for

@@ -579,6 +579,9 @@ pub fn assemble(
 /// Bisections that place the edge of the contact across the tip: the
 /// interval between two samples is split to `2^-EDGE_BISECTIONS` of its width.
 const EDGE_BISECTIONS: usize = 8;
+/// After this many bisections the edge is told free or not (at the middle
+/// of its bracket, an eighth of the interval): a free edge needs no more.
+const FREE_AFTER: usize = 5;
 
 /// The rim slices that touch the rock over part of their strip only:
 /// `Some((y, width))`, the middle and width of the touching part (width 0:
@@ -601,7 +604,8 @@ const EDGE_BISECTIONS: usize = 8;
 /// by themselves, and the map's chord between the last cut and the first
 /// uncut node row lies below the round tip, so bisection would place such
 /// an edge up to half a cell inside the true one. A fresh cut is therefore
-/// unchanged, bit for bit.
+/// unchanged, bit for bit. (Whether an edge is free is read at its bracket
+/// after `FREE_AFTER` bisections.)
 fn engaged_strips(
     h: f64,
     n: usize,
@@ -643,7 +647,13 @@ fn engaged_strips(
             continue;
         }
         let (mut lo, mut hi) = (ya, yb); // lo answers ta, hi answers tb
-        for _ in 0..EDGE_BISECTIONS {
+        let mut edge = None;
+        for j in 0..EDGE_BISECTIONS {
+            if j == FREE_AFTER && free(0.5 * (lo + hi)) {
+                // the boundary between the two samples' strips
+                edge = Some(b(i));
+                break;
+            }
             let m = 0.5 * (lo + hi);
             if touches(m) == ta {
                 lo = m;
@@ -651,11 +661,7 @@ fn engaged_strips(
                 hi = m;
             }
         }
-        let mut edge = 0.5 * (lo + hi);
-        if free(edge) {
-            // the boundary between the two samples' strips
-            edge = b(i);
-        }
+        let edge = edge.unwrap_or(0.5 * (lo + hi));
         if ta {
             if let Some(s) = open.take() {
                 if ns < spans.len() {
@@ -841,26 +847,23 @@ pub fn contact(
         rim_touches |= c.face == 0.0 && pair.iter().any(Option::is_some);
     }
     // the rim slices as the part of their strip that touches the rock
-    let walk_at = |y: f64| -> [Option<Walk>; 2] {
+    let walk_side = |y: f64, dir: f64| -> Option<Walk> {
         let rho = disc.rho(y);
-        let Some((theta0, reach)) = disc.arc_below(y, rho, z_top) else {
-            return [None, None];
-        };
+        let (theta0, reach) = disc.arc_below(y, rho, z_top)?;
         let step = num.arc_step_cells * cell / rho;
-        [1.0f64, -1.0].map(|dir| {
-            march(
-                map,
-                disc,
-                y,
-                rho,
-                theta0,
-                reach.min(std::f64::consts::PI),
-                dir,
-                step,
-                look,
-            )
-        })
+        march(
+            map,
+            disc,
+            y,
+            rho,
+            theta0,
+            reach.min(std::f64::consts::PI),
+            dir,
+            step,
+            look,
+        )
     };
+    let walk_at = |y: f64| [walk_side(y, 1.0), walk_side(y, -1.0)];
     // (a disc at rest keeps the midpoint rule: lifted off its pit, the
     // circles that still touch alternate with the node rows, no single
     // edge; the rule blends in with the travel speed)
@@ -870,7 +873,7 @@ pub fn contact(
             h,
             n,
             |k| walks[k].iter().any(Option::is_some),
-            |y| walk_at(y).iter().any(Option::is_some),
+            |y| walk_side(y, 1.0).is_some() || walk_side(y, -1.0).is_some(),
             |y| {
                 let rho = disc.rho(y);
                 disc.arc_below(y, rho, z_top).is_none_or(|(theta0, _)| {

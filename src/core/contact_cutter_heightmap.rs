@@ -6,7 +6,10 @@
 //! on both sides, finding the first arc `[a, b]` where the rim is below the
 //! rock; the ends are refined by regula falsi. The whole circle can be
 //! reached, the upper rim included (the thesis searched only the lower half,
-//! its limitation 10.1).
+//! its limitation 10.1). Where neighbouring slices disagree on touching the
+//! rock at an older groove's wall, the edge between them is found by
+//! bisection and those slices carry the touching part of their strip
+//! (`engaged_strips`), so the load follows the wall continuously.
 //!
 //! **The leading edge.** A height map blurs the corner where the groove meets
 //! uncut rock over one cell, so the rim's exit from the rock would be found up

@@ -5,8 +5,9 @@
 //! test says otherwise; tolerances are fractions of the fresh cut's normal
 //! force `FN` (60.8 kN at the reference scene).
 //!
-//! The full sweeps and the 0.25 mm convergence runs are slow:
-//! `cargo test --release --test contact_law -- --ignored`.
+//! The full sweeps and the 0.25 mm convergence runs fail today (README,
+//! contact law): `cargo test --release --test contact_law -- --ignored`
+//! (about 5 s per sweep and 25 s for the convergence runs in release).
 
 use kerf::core::contact_bruteforce::Resolution;
 use kerf::scenes::*;
@@ -64,7 +65,10 @@ fn a_pass_beside_a_groove_charges_the_rock_it_removes() {
     let f = fresh_ref();
     let w_fresh = f.rolling_work_per_volume();
     let mut last = [0.0f64; 2];
-    for d_mm in [0.0, 1.0, 2.0, 4.0, 6.0, 8.0, 10.0, 13.0] {
+    // (at 13 mm the tip's edge lies on the first groove's wall, which the
+    // 1 mm map blurs over a cell: the oracle too finds 3 % of FN less than
+    // the fresh cut there; one cell further the passes share no cell)
+    for d_mm in [0.0, 1.0, 2.0, 4.0, 6.0, 8.0, 10.0, 13.0, 14.0] {
         let m = beside(1e-3, P_REF, d_mm * 1e-3);
         let (n, r) = (m.cutting[0], m.cutting[1]);
         // the forces rise with d to the fresh cut's (0.5 % FN of slack for
@@ -162,7 +166,7 @@ fn forces_move_smoothly_with_tilt_and_offset_where_the_old_law_jumped() {
 }
 
 #[test]
-#[ignore = "slow: 141 tilted scenes (about a minute)"]
+#[ignore = "fails: 5.2 % of FN at 36 -> 36.5 deg (README, contact law); 141 tilted scenes"]
 fn full_tilt_sweep_0_to_70_degrees_is_continuous() {
     let tilt: Vec<Mean> = (0..=140)
         .map(|k| fresh(1e-3, P_REF, (0.5 * k as f64).to_radians()))
@@ -173,7 +177,7 @@ fn full_tilt_sweep_0_to_70_degrees_is_continuous() {
 }
 
 #[test]
-#[ignore = "slow: 201 two-pass scenes (about a minute)"]
+#[ignore = "fails: 5.9 % of FN at 0 -> 0.1 mm, 4.3 % at 11.2 mm (README, contact law); 201 scenes"]
 fn full_offset_sweep_0_to_20_mm_is_continuous() {
     let off: Vec<Mean> = (0..=200)
         .map(|k| beside(1e-3, P_REF, 1e-4 * k as f64))
@@ -199,7 +203,7 @@ fn convergence_scenes(cell: f64) -> Vec<(String, Mean)> {
 }
 
 #[test]
-#[ignore = "slow: every scene at 1, 0.5 and 0.25 mm cells (several minutes)"]
+#[ignore = "fails: 6.5 mm beside a groove (5.4 % at 1 mm, 0.54 % at 0.5 mm cells; README)"]
 fn forces_converge_with_the_cell_size() {
     let fine = convergence_scenes(0.25e-3);
     let mid = convergence_scenes(0.5e-3);

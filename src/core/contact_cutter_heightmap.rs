@@ -6,7 +6,10 @@
 //! on both sides, finding the first arc `[a, b]` where the rim is below the
 //! rock; the ends are refined by regula falsi. The whole circle can be
 //! reached, the upper rim included (the thesis searched only the lower half,
-//! its limitation 10.1).
+//! its limitation 10.1). Where neighbouring slices disagree on touching the
+//! rock at an older groove's wall, the edge between them is found by
+//! bisection and those slices carry the touching part of their strip
+//! (`engaged_strips`), so the load follows the wall continuously.
 //!
 //! **The leading edge.** A height map blurs the corner where the groove meets
 //! uncut rock over one cell, so the rim's exit from the rock would be found up
@@ -576,6 +579,130 @@ pub fn assemble(
     ))
 }
 
+/// Bisections that place the edge of the contact across the tip: the
+/// interval between two samples is split to `2^-EDGE_BISECTIONS` of its width.
+const EDGE_BISECTIONS: usize = 8;
+/// After this many bisections the edge is told free or not (at the middle
+/// of its bracket, an eighth of the interval): a free edge needs no more.
+const FREE_AFTER: usize = 5;
+
+/// The rim slices that touch the rock over part of their strip only:
+/// `Some((y, width))`, the middle and width of the touching part (width 0:
+/// none); `None`, the slice as it is.
+///
+/// Whether a circle touches the rock is a yes/no reading of the height map
+/// (the rim inside the interpolated rock by micrometres). Where the wall of
+/// a groove cut earlier (or by another part of a tilted disc) meets rock the
+/// disc is in, the answer switches within a hundredth of a cell of a node
+/// row, so sampling each slice at its middle switched the whole strip's
+/// load (a ninth of the tip) on or off as that middle crossed a node row.
+/// Here the edge of the contact is found by bisection between neighbouring
+/// samples (the slices' middles and the tip's edges) that answer
+/// differently, and each slice carries the touching part of its strip,
+/// sampled at that part's middle: the load grows with the touching width.
+///
+/// An edge where the rock beyond is uncut face (`free(y)`: the rim rises out
+/// of the face, as at the sides of a fresh groove) is left at the strip
+/// boundary, as the midpoint rule puts it: the arcs there shrink to nothing
+/// by themselves, and the map's chord between the last cut and the first
+/// uncut node row lies below the round tip, so bisection would place such
+/// an edge up to half a cell inside the true one. A fresh cut is therefore
+/// unchanged, bit for bit. (Whether an edge is free is read at its bracket
+/// after `FREE_AFTER` bisections.)
+fn engaged_strips(
+    h: f64,
+    n: usize,
+    touches_slice: impl Fn(usize) -> bool,
+    touches: impl Fn(f64) -> bool,
+    free: impl Fn(f64) -> bool,
+) -> [Option<(f64, f64)>; 101] {
+    let mut out = [None; 101];
+    let w = 2.0 * h / n as f64;
+    // strip boundaries: b(k) is the lower edge of strip k, b(n) = h
+    let b = |k: usize| {
+        if k == 0 {
+            -h
+        } else if k == n {
+            h
+        } else {
+            -h + w * k as f64
+        }
+    };
+    // the samples across the tip with their answers: the edges and the
+    // slices; sample i + 1 is slice i
+    let mut pts = [(0.0f64, false); 103];
+    for k in 0..n {
+        pts[k + 1] = (slice_y(h, n, k), touches_slice(k));
+    }
+    pts[0] = (-h, touches(-h));
+    pts[n + 1] = (h, touches(h));
+    let pts = &pts[..n + 2];
+    if pts.iter().all(|p| p.1) {
+        return out;
+    }
+    // the touching spans across the tip
+    let mut spans = [(0.0f64, 0.0f64); 52];
+    let mut ns = 0;
+    let mut open: Option<f64> = pts[0].1.then_some(-h);
+    for i in 0..n + 1 {
+        let ((ya, ta), (yb, tb)) = (pts[i], pts[i + 1]);
+        if ta == tb {
+            continue;
+        }
+        let (mut lo, mut hi) = (ya, yb); // lo answers ta, hi answers tb
+        let mut edge = None;
+        for j in 0..EDGE_BISECTIONS {
+            if j == FREE_AFTER && free(0.5 * (lo + hi)) {
+                // the boundary between the two samples' strips
+                edge = Some(b(i));
+                break;
+            }
+            let m = 0.5 * (lo + hi);
+            if touches(m) == ta {
+                lo = m;
+            } else {
+                hi = m;
+            }
+        }
+        let edge = edge.unwrap_or(0.5 * (lo + hi));
+        if ta {
+            if let Some(s) = open.take() {
+                if ns < spans.len() {
+                    spans[ns] = (s, edge);
+                    ns += 1;
+                }
+            }
+        } else {
+            open = Some(edge);
+        }
+    }
+    if let Some(s) = open {
+        if ns < spans.len() {
+            spans[ns] = (s, h);
+            ns += 1;
+        }
+    }
+    let spans = &spans[..ns];
+    for (k, o) in out.iter_mut().enumerate().take(n) {
+        let (lo, hi) = (b(k), b(k + 1));
+        if spans.iter().any(|&(s, e)| s <= lo && e >= hi) {
+            continue;
+        }
+        let (mut total, mut best) = (0.0f64, (0.0f64, 0.0f64));
+        for &(s, e) in spans {
+            let (s, e) = (s.max(lo), e.min(hi));
+            if e > s {
+                total += e - s;
+                if e - s > best.1 - best.0 {
+                    best = (s, e);
+                }
+            }
+        }
+        *o = Some((0.5 * (best.0 + best.1), total));
+    }
+    out
+}
+
 /// A circle of the disc's surface about the axle that the query walks.
 #[derive(Debug, Clone, Copy, Default)]
 struct Circle {
@@ -682,7 +809,6 @@ pub fn contact(
             }
         }
     }
-    let circles = &circles[..nc];
 
     // a moving disc whose side face nowhere moves into the rock (a rolling
     // gauge cutter: the face slides in its own plane) gets no load from its
@@ -700,7 +826,7 @@ pub fn contact(
     // on every side whose weight in the blend can matter
     let mut walks = [[None::<Walk>; 2]; 101 + MAX_RINGS + 2 * MAX_FLANK_BANDS];
     let mut rim_touches = false;
-    for (c, pair) in circles.iter().zip(walks.iter_mut()) {
+    for (c, pair) in circles[..nc].iter().zip(walks.iter_mut()) {
         if c.face != 0.0 && !c.flank && rings_idle && rim_touches {
             continue;
         }
@@ -723,6 +849,65 @@ pub fn contact(
         }
         rim_touches |= c.face == 0.0 && pair.iter().any(Option::is_some);
     }
+    // the rim slices as the part of their strip that touches the rock
+    let walk_side = |y: f64, dir: f64| -> Option<Walk> {
+        let rho = disc.rho(y);
+        let (theta0, reach) = disc.arc_below(y, rho, z_top)?;
+        let step = num.arc_step_cells * cell / rho;
+        march(
+            map,
+            disc,
+            y,
+            rho,
+            theta0,
+            reach.min(std::f64::consts::PI),
+            dir,
+            step,
+            look,
+        )
+    };
+    let walk_at = |y: f64| [walk_side(y, 1.0), walk_side(y, -1.0)];
+    // (a disc at rest keeps the midpoint rule: lifted off its pit, the
+    // circles that still touch alternate with the node rows, no single
+    // edge; the rule blends in with the travel speed)
+    let m = motion.moving;
+    let engaged = if m > 0.0 {
+        engaged_strips(
+            h,
+            n,
+            |k| walks[k].iter().any(Option::is_some),
+            |y| walk_side(y, 1.0).is_some() || walk_side(y, -1.0).is_some(),
+            |y| {
+                let rho = disc.rho(y);
+                disc.arc_below(y, rho, z_top).is_none_or(|(theta0, _)| {
+                    let p = disc.to_world(&disc.rim_point_local(theta0, y));
+                    map.any_uncut(p.x, p.y)
+                })
+            },
+        )
+    } else {
+        [None; 101]
+    };
+    let w_strip = 2.0 * h / n as f64;
+    for (k, e) in engaged.iter().enumerate().take(n) {
+        if let Some((y, width)) = *e {
+            let yk = slice_y(h, n, k);
+            let (y, width) = if walks[k].iter().any(Option::is_some) {
+                (yk + m * (y - yk), w_strip + m * (width - w_strip))
+            } else {
+                (y, m * width)
+            };
+            circles[k].y = y;
+            circles[k].radius = disc.rho(y);
+            circles[k].width = width;
+            walks[k] = if width > 0.0 {
+                walk_at(y)
+            } else {
+                [None, None]
+            };
+        }
+    }
+    let circles = &circles[..nc];
     let mut lo = [0.0f64; 2];
     let mut hi = [0.0f64; 2];
     for pair in walks.iter().take(nc) {
@@ -793,7 +978,15 @@ pub fn contact(
                 elastic_depth,
                 eta,
             );
-            depth[s] = depth[s].max(arc.depth * eff);
+            // a slice that touches over part of its strip sets the depth
+            // in proportion to that part, up to half its strip: a sliver of
+            // contact entering a strip does not move the penetration
+            let share = if c.face == 0.0 {
+                (2.0 * c.width / w_strip).min(1.0)
+            } else {
+                1.0
+            };
+            depth[s] = depth[s].max(arc.depth * eff * share);
             let part = usize::from(c.face != 0.0);
             let l = &mut loads[part][s];
             *l += load;
@@ -815,9 +1008,10 @@ pub fn contact(
         let (mut wsum, mut ysum) = (0.0, 0.0);
         for (k, pair) in arcs.iter().enumerate().take(n) {
             let len = |a: Option<Arc>| a.map_or(0.0, |a| a.length);
-            let w = wp * len(pair[0]) + wm * len(pair[1]);
+            // (a slice carrying part of its strip weighs in proportion)
+            let w = (wp * len(pair[0]) + wm * len(pair[1])) * (circles[k].width / w_strip);
             wsum += w;
-            ysum += w * slice_y(h, n, k);
+            ysum += w * circles[k].y;
         }
         let y_f = if wsum > 0.0 {
             (ysum / wsum).clamp(-h, h)

@@ -323,9 +323,9 @@ fn chips_on_a_head_replay_bit_for_bit_for_any_thread_count() {
     a.set_state(&saved).unwrap();
     assert_eq!(on(&mut a), first);
     let back = HeadState::from_bytes(&bytes, a.params(), a.len()).unwrap();
-    // a state read back equals the one it was written from (the tiles'
-    // cached highest node, exact after reading and only a bound after
-    // chips, is not part of the equality)
+    // a state read back equals the one it was written from, the tiles'
+    // height bounds included (after chips they are looser than the nodes,
+    // and the contact's arc walk starts from them)
     assert_eq!(back, saved);
     assert_eq!(back.to_bytes(), bytes);
     a.set_state(&back).unwrap();

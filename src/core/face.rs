@@ -155,15 +155,21 @@ pub(crate) mod blob {
         }
     }
 
-    /// The touched tiles only, with their cut masks.
+    /// Bytes of one tile: index, heights, cut mask, height bound.
+    const TILE_BYTES: usize = 8 + TILE * TILE * 8 + HeightMap::MASK_WORDS * 8 + 8;
+
+    /// The touched tiles only, with their cut masks and the height bound the
+    /// map keeps for each (the cut windows and the contact's arc walk start
+    /// from it: without it a state read back would replay differently).
     pub fn tiles(v: &mut Vec<u8>, map: &HeightMap) {
         let tiles: Vec<(usize, &[f64], &[u64])> = map.touched_tiles().collect();
-        v.reserve(8 + tiles.len() * (8 + TILE * TILE * 8 + HeightMap::MASK_WORDS * 8));
+        v.reserve(8 + tiles.len() * TILE_BYTES);
         u64s(v, &[tiles.len() as u64]);
         for (k, z, cut) in tiles {
             u64s(v, &[k as u64]);
             f64s(v, z);
             u64s(v, cut);
+            f64s(v, &[map.tile_bound(k)]);
         }
     }
 
@@ -294,7 +300,7 @@ pub(crate) mod blob {
             if n > map.tile_count() as u64 {
                 return Err(bad("more tiles than the grid has"));
             }
-            let tile_bytes = (8 + TILE * TILE * 8 + HeightMap::MASK_WORDS * 8) as u64;
+            let tile_bytes = TILE_BYTES as u64;
             if n.checked_mul(tile_bytes)
                 .is_none_or(|b| b > (self.bytes.len() - self.pos) as u64)
             {
@@ -313,7 +319,11 @@ pub(crate) mod blob {
                 for w in cut.iter_mut() {
                     *w = self.u64()?;
                 }
-                map.load_tile(k, &z, &cut)
+                let bound = self.f64()?;
+                if !bound.is_finite() {
+                    return Err(bad("non-finite height bound"));
+                }
+                map.load_tile(k, &z, &cut, bound)
                     .ok_or_else(|| bad("tile index out of range"))?;
             }
             Ok(map)

@@ -129,7 +129,8 @@ pub struct HeadState {
 }
 
 const MAGIC: &[u8; 8] = b"KERFHEAD";
-const VERSION: u32 = 1;
+/// 2: tiles carry the height bound the map keeps.
+const VERSION: u32 = 2;
 
 impl HeadState {
     pub fn face(&self) -> &Face {

@@ -231,12 +231,12 @@ impl Patch<'_> {
     }
 }
 
-/// Tiles are equal when their heights and cut masks are: `z_max` is only a
-/// bound (exact after a load, conservative after cuts), so a state read
-/// back from its bytes equals the one it was written from.
+/// Tiles are equal when their heights, cut masks and height bounds are
+/// (the bound travels with a state's bytes: a state read back equals the
+/// one it was written from, and replays as it does).
 impl PartialEq for Tile {
     fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.d, &other.d) || self.d == other.d
+        self.z_max == other.z_max && (Arc::ptr_eq(&self.d, &other.d) || self.d == other.d)
     }
 }
 
@@ -734,8 +734,18 @@ impl HeightMap {
         }
     }
 
-    /// Restores a tile written by [`HeightMap::touched_tiles`].
-    pub fn load_tile(&mut self, k: usize, z: &[f64], cut: &[u64]) -> Option<()> {
+    /// The bound on tile `k`'s heights that the map keeps (the one
+    /// [`max_height`](Self::max_height) reads): exact after a load, only an
+    /// upper bound after cuts. A state carries it, so that a map read back
+    /// scans and walks exactly as the one it was written from.
+    pub fn tile_bound(&self, k: usize) -> f64 {
+        self.tiles[k].as_ref().map_or(self.z0, |t| t.z_max)
+    }
+
+    /// Restores a tile written by [`HeightMap::touched_tiles`], with its
+    /// height bound ([`tile_bound`](Self::tile_bound); never below the
+    /// tile's highest node, whatever the caller passes).
+    pub fn load_tile(&mut self, k: usize, z: &[f64], cut: &[u64], bound: f64) -> Option<()> {
         if k >= self.tiles.len() || z.len() != TILE_NODES || cut.len() != MASK_WORDS {
             return None;
         }
@@ -746,7 +756,7 @@ impl HeightMap {
         let dm = Arc::make_mut(&mut d);
         dm.z.copy_from_slice(z);
         dm.cut.copy_from_slice(cut);
-        let z_max = d.z.iter().copied().fold(NO_ROCK, f64::max);
+        let z_max = d.z.iter().copied().fold(bound, f64::max);
         self.tiles[k] = Some(Tile { d, z_max });
         Some(())
     }
@@ -758,6 +768,32 @@ mod tests {
 
     fn small() -> HeightMap {
         HeightMap::flat(Grid::new(0.0, 1.0, 0.0, 2.0, 11, 21), 0.5)
+    }
+
+    /// A tile read back keeps the height bound it was written with: the cut
+    /// windows and the contact's arc walk start from that bound, so a bound
+    /// recomputed exactly on reading (tighter than one left by cuts) made a
+    /// state read back from bytes replay differently.
+    #[test]
+    fn a_tile_read_back_keeps_its_height_bound() {
+        let g = Grid::new(0.0, 0.1, 0.0, 0.1, 101, 101);
+        let mut m = HeightMap::flat(g, 0.5);
+        m.lower_node(3, 3, 0.49);
+        m.lower_node(4, 3, 0.47);
+        for j in 0..TILE {
+            for i in 0..TILE {
+                m.lower_node(i, j, 0.4); // the whole tile cut: its bound stays 0.5
+            }
+        }
+        let (k, z, cut) = m.touched_tiles().next().unwrap();
+        let (z, cut) = (z.to_vec(), cut.to_vec());
+        assert_eq!(m.tile_bound(k), 0.5);
+        let mut back = HeightMap::flat(g, 0.5);
+        back.load_tile(k, &z, &cut, m.tile_bound(k)).unwrap();
+        assert_eq!(back.max_height(0, 31, 0, 31), m.max_height(0, 31, 0, 31));
+        // a bound below the tile's own nodes is no bound: the nodes win
+        back.load_tile(k, &z, &cut, 0.0).unwrap();
+        assert_eq!(back.tile_bound(k), 0.4);
     }
 
     #[test]

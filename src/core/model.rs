@@ -57,8 +57,8 @@ pub struct ModelState {
 }
 
 const MAGIC: &[u8; 8] = b"KERFCORE";
-/// 4: tiles carry their cut masks.
-const VERSION: u32 = 4;
+/// 4: tiles carry their cut masks; 5: and the height bound the map keeps.
+const VERSION: u32 = 5;
 
 impl ModelState {
     /// Versioned little-endian binary form: magic, version, grid, bookkeeping,

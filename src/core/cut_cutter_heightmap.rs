@@ -151,37 +151,28 @@ trait Nodes {
     ) -> bool;
 }
 
-impl Nodes for HeightMap {
-    fn grid(&self) -> &Grid {
-        HeightMap::grid(self)
-    }
-    fn lower_row(
-        &mut self,
-        j: usize,
-        i0: usize,
-        i1: usize,
-        f: impl FnMut(f64) -> Option<f64>,
-    ) -> bool {
-        HeightMap::lower_row(self, j, i0, i1, f);
-        false
-    }
+/// The map and a patch of it are walked alike: they write and go on.
+macro_rules! writable_nodes {
+    ($t:ty) => {
+        impl Nodes for $t {
+            fn grid(&self) -> &Grid {
+                <$t>::grid(self)
+            }
+            fn lower_row(
+                &mut self,
+                j: usize,
+                i0: usize,
+                i1: usize,
+                f: impl FnMut(f64) -> Option<f64>,
+            ) -> bool {
+                <$t>::lower_row(self, j, i0, i1, f);
+                false
+            }
+        }
+    };
 }
-
-impl Nodes for Patch<'_> {
-    fn grid(&self) -> &Grid {
-        Patch::grid(self)
-    }
-    fn lower_row(
-        &mut self,
-        j: usize,
-        i0: usize,
-        i1: usize,
-        f: impl FnMut(f64) -> Option<f64>,
-    ) -> bool {
-        Patch::lower_row(self, j, i0, i1, f);
-        false
-    }
-}
+writable_nodes!(HeightMap);
+writable_nodes!(Patch<'_>);
 
 /// A view for probing: [`sweep_nodes`] without a fraction never writes.
 struct ReadOnly<'a>(&'a HeightMap);

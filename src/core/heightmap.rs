@@ -84,6 +84,19 @@ impl Tile {
     }
 }
 
+/// Nodes `i0..=i1` of a row as runs inside one tile each: `(first, count)`.
+fn tile_runs(i0: usize, i1: usize) -> impl Iterator<Item = (usize, usize)> {
+    let mut i = i0;
+    std::iter::from_fn(move || {
+        (i <= i1).then(|| {
+            let last = ((i / TILE + 1) * TILE - 1).min(i1);
+            let run = (i, last - i + 1);
+            i = last + 1;
+            run
+        })
+    })
+}
+
 /// Runs `f(z)` over nodes `k0, k0 + 1, ..` (`n` of them) of the tile in
 /// `slot`, in order; where it returns a height the node is lowered to it and
 /// marked cut. Until the first write the tile is only read (an untouched one
@@ -205,20 +218,17 @@ impl Patch<'_> {
         i1: usize,
         mut f: impl FnMut(f64) -> Option<f64>,
     ) {
-        let mut i = i0;
-        while i <= i1 {
-            let last = ((i / TILE + 1) * TILE - 1).min(i1);
+        for (i, n) in tile_runs(i0, i1) {
             let (r, c, k) = self.slot(i, j);
             lower_run(
                 &mut self.rows[r][c],
                 self.z0,
                 k,
-                last - i + 1,
+                n,
                 &mut f,
                 |_, _, _, _| {},
                 || {},
             );
-            i = last + 1;
         }
     }
 
@@ -471,9 +481,7 @@ impl HeightMap {
         i1: usize,
         mut f: impl FnMut(f64) -> Option<f64>,
     ) {
-        let mut i = i0;
-        while i <= i1 {
-            let last = ((i / TILE + 1) * TILE - 1).min(i1);
+        for (i, n) in tile_runs(i0, i1) {
             let (t, k) = self.tile_index(i, j);
             let undo = &mut self.undo;
             let open = undo.open;
@@ -482,7 +490,7 @@ impl HeightMap {
                 &mut self.tiles[t],
                 self.z0,
                 k,
-                last - i + 1,
+                n,
                 &mut f,
                 |node, z, cut_word, z_max| {
                     if open {
@@ -500,7 +508,6 @@ impl HeightMap {
             if allocated && self.undo.open {
                 self.undo.allocated.push(t);
             }
-            i = last + 1;
         }
     }
 

@@ -409,9 +409,12 @@ const MAX_RINGS: usize = 24;
 /// each band's arcs are exact).
 const MAX_FLANK_BANDS: usize = 24;
 
+/// Most samples added by splitting strips (two a strip).
+const MAX_SUB: usize = 16;
+
 /// Room for every circle: rim slices, rings, flank bands and the samples of
 /// split strips.
-const MAX_CIRCLES: usize = 101 + MAX_RINGS + 2 * MAX_FLANK_BANDS + 16;
+const MAX_CIRCLES: usize = 101 + MAX_RINGS + 2 * MAX_FLANK_BANDS + MAX_SUB;
 
 /// The part `[s_lo, s_hi]` of the flank on `side` (`s` the distance along
 /// the flank from the tip's edge) whose circles reach below `z_top`: the
@@ -616,6 +619,41 @@ fn split_strip(h: f64, n: usize, i: usize, c: f64) -> usize {
 /// its free edges (a fresh cut's sides, shallower than 1.7 mm): the pressure
 /// level is calibrated on it, so fresh cuts stay the closed form bit for bit.
 const SPLIT_TILT: f64 = 0.087;
+
+/// Depth \[m\] by which a slice's arc must break with the mean of its
+/// neighbours' before its strip is integrated in thirds (fully at twice
+/// that); at least three times the tip profile's own curvature there.
+const UNEVEN_DEPTH: f64 = 0.3e-3;
+
+/// Splits rim slice `k`'s strip (middle `yk`, width `w`) in thirds,
+/// blended in by `s`: the slice
+/// keeps `1 - 2 s / 3` of its strip and two new circles at the middles of
+/// the outer thirds carry `s / 3` each.
+#[allow(clippy::too_many_arguments)]
+fn split_in_thirds(
+    circles: &mut [Circle],
+    walks: &mut [[Option<Walk>; 2]],
+    nc: &mut usize,
+    (k, yk, w): (usize, f64, f64),
+    s: f64,
+    walk_at: &dyn Fn(f64) -> [Option<Walk>; 2],
+    disc: &PosedDisc,
+) {
+    circles[k].width = w * (1.0 - 2.0 * s / 3.0);
+    circles[k].sub = true;
+    for y in [yk - w / 3.0, yk + w / 3.0] {
+        circles[*nc] = Circle {
+            y,
+            radius: disc.rho(y),
+            width: s * w / 3.0,
+            face: 0.0,
+            flank: false,
+            sub: true,
+        };
+        walks[*nc] = walk_at(y);
+        *nc += 1;
+    }
+}
 
 /// The rim slices that touch the rock over part of their strip only:
 /// `Some((y, width))`, the middle and width of the touching part (width 0:
@@ -959,27 +997,23 @@ pub fn contact(
     // in with the travel speed (like the edge search) and with the tilt
     // (`SPLIT_TILT`)
     let sm = m * smoothstep(axle_z.abs() / SPLIT_TILT);
-    for k in 0..n {
-        if sm <= 0.0 || !split[k] || nc + 2 > MAX_CIRCLES {
+    // (the samples of split strips follow the other circles)
+    let n_main = nc;
+    for (k, &sp) in split.iter().enumerate().take(n) {
+        if sm <= 0.0 || !sp || nc + 2 > n_main + MAX_SUB {
             continue;
         }
         let yk = slice_y(h, n, k);
-        circles[k].width *= 1.0 - 2.0 * sm / 3.0;
-        circles[k].sub = true;
-        for y in [yk - w_strip / 3.0, yk + w_strip / 3.0] {
-            circles[nc] = Circle {
-                y,
-                radius: disc.rho(y),
-                width: sm * w_strip / 3.0,
-                face: 0.0,
-                flank: false,
-                sub: true,
-            };
-            walks[nc] = walk_at(y);
-            nc += 1;
-        }
+        split_in_thirds(
+            &mut circles,
+            &mut walks,
+            &mut nc,
+            (k, yk, w_strip),
+            sm,
+            &walk_at,
+            disc,
+        );
     }
-    let circles = &circles[..nc];
     let mut lo = [0.0f64; 2];
     let mut hi = [0.0f64; 2];
     for pair in walks.iter().take(nc) {
@@ -997,6 +1031,47 @@ pub fn contact(
     let refine_side = [matters(0), matters(1)];
     // circles that may turn out deepest get the fine tolerance
     let deepest_lo = lo[0].max(lo[1]);
+    let finish_pair = |pair: &[Option<Walk>; 2]| -> [Option<Arc>; 2] {
+        let may_govern = pair
+            .iter()
+            .flatten()
+            .any(|w| w.depth_bound(disc) >= deepest_lo);
+        let tol = if may_govern { ANGLE_TOL } else { LEAN_TOL };
+        [0, 1].map(|s| pair[s].map(|w| w.finish(map, disc, look, refine_side[s], tol)))
+    };
+    // the rim slices' arcs first: a slice whose arc depth breaks with its
+    // neighbours' (an arc end on an older groove's blurred wall or floor,
+    // which moves steeply with the slice's place in its cell) is
+    // integrated in thirds as well
+    let mut slice_arcs = [[None::<Arc>; 2]; 101];
+    for (k, a) in slice_arcs.iter_mut().enumerate().take(n) {
+        *a = finish_pair(&walks[k]);
+    }
+    if m > 0.0 && n >= 3 {
+        let d = |k: usize| {
+            slice_arcs[k]
+                .iter()
+                .flatten()
+                .map(|a| a.depth)
+                .fold(0.0, f64::max)
+        };
+        let profile = |k: usize| disc.radius - disc.rho(slice_y(h, n, k));
+        for k in 1..n - 1 {
+            if circles[k].sub || engaged[k].is_some() {
+                continue;
+            }
+            let dev = (d(k) - 0.5 * (d(k - 1) + d(k + 1))).abs();
+            // the tip profile's own curvature across the neighbours
+            let own = 0.5 * (profile(k - 1) + profile(k + 1)) - profile(k);
+            let lo = UNEVEN_DEPTH.max(3.0 * own.abs());
+            let su = m * smoothstep((dev - lo) / lo);
+            if su > 0.0 && nc + 2 <= n_main + MAX_SUB {
+                let strip = (k, circles[k].y, circles[k].width);
+                split_in_thirds(&mut circles, &mut walks, &mut nc, strip, su, &walk_at, disc);
+            }
+        }
+    }
+    let circles = &circles[..nc];
 
     // the load of every arc
     let psi = law.psi();
@@ -1006,23 +1081,24 @@ pub fn contact(
     let mut any = false;
     // the deepest rim arc, for the slip point, and the lean of the tip
     let mut gov: Option<(usize, f64)> = None;
-    let mut arcs = [[None::<Arc>; 2]; MAX_CIRCLES];
+    let mut sub_arcs = [[None::<Arc>; 2]; MAX_SUB];
     for (ci, c) in circles.iter().enumerate() {
         if c.face != 0.0 && !c.flank && rings_idle {
             any |= walks[ci].iter().any(Option::is_some);
             continue;
         }
-        let may_govern = walks[ci]
-            .iter()
-            .flatten()
-            .any(|w| w.depth_bound(disc) >= deepest_lo);
-        let tol = if may_govern { ANGLE_TOL } else { LEAN_TOL };
+        let finished = if ci < n {
+            slice_arcs[ci]
+        } else {
+            finish_pair(&walks[ci])
+        };
         for s in 0..2 {
-            let Some(w) = walks[ci][s] else { continue };
-            let arc = w.finish(map, disc, look, refine_side[s], tol);
+            let Some(arc) = finished[s] else { continue };
             any = true;
             if c.face == 0.0 {
-                arcs[ci][s] = Some(arc);
+                if ci >= n_main {
+                    sub_arcs[ci - n_main][s] = Some(arc);
+                }
                 if gov.is_none_or(|(_, d)| arc.depth > d) {
                     gov = Some((ci, arc.depth));
                 }
@@ -1061,6 +1137,9 @@ pub fn contact(
                 1.0
             };
             depth[s] = depth[s].max(arc.depth * eff * share);
+            if std::env::var("STRIPDBG").is_ok() && c.face == 0.0 {
+                eprintln!("ci={ci:3} s={s} y={:8.3}mm w={:6.3} a={:7.4} b={:7.4} depth={:7.4}mm umax={:8.5}mm eff={eff:.3} Fz={:9.3e} Fx={:9.3e}", c.y*1e3, c.width*1e3, arc.a, arc.b, arc.depth*1e3, arc.u_max*1e3, load.force.z, load.force.x);
+            }
             let part = usize::from(c.face != 0.0);
             let l = &mut loads[part][s];
             *l += load;
@@ -1077,13 +1156,18 @@ pub fn contact(
     };
     // friction reads the slip where the cutting rim arc is lowest
     if let Some((kg, _)) = gov {
-        let [ap, am] = arcs[kg];
+        let rim_arcs = |ci: usize| {
+            if ci < n {
+                slice_arcs[ci]
+            } else {
+                sub_arcs[ci - n_main]
+            }
+        };
+        let [ap, am] = rim_arcs(kg);
         let theta_slip = wp * ap.map_or(0.0, |a| a.a) + wm * am.map_or(0.0, |a| a.a);
         let (mut wsum, mut ysum) = (0.0, 0.0);
-        for (k, pair) in arcs.iter().enumerate().take(nc) {
-            if circles[k].face != 0.0 {
-                continue;
-            }
+        for k in (0..n).chain(n_main..nc) {
+            let pair = rim_arcs(k);
             let len = |a: Option<Arc>| a.map_or(0.0, |a| a.length);
             // (a slice carrying part of its strip weighs in proportion)
             let w = (wp * len(pair[0]) + wm * len(pair[1])) * (circles[k].width / w_strip);

@@ -9,7 +9,10 @@
 //! its limitation 10.1). Where neighbouring slices disagree on touching the
 //! rock at an older groove's wall, the edge between them is found by
 //! bisection and those slices carry the touching part of their strip
-//! (`engaged_strips`), so the load follows the wall continuously.
+//! (`engaged_strips`), so the load follows the wall continuously. A strip
+//! that a tilted disc's free edge crosses (`SPLIT_TILT`), or whose slice's
+//! arc depth breaks with its neighbours' (`UNEVEN_DEPTH`), is integrated in
+//! thirds rather than at its middle alone.
 //!
 //! **The leading edge.** A height map blurs the corner where the groove meets
 //! uncut rock over one cell, so the rim's exit from the rock would be found up

@@ -1140,9 +1140,6 @@ pub fn contact(
                 1.0
             };
             depth[s] = depth[s].max(arc.depth * eff * share);
-            if std::env::var("STRIPDBG").is_ok() && c.face == 0.0 {
-                eprintln!("ci={ci:3} s={s} y={:8.3}mm w={:6.3} a={:7.4} b={:7.4} depth={:7.4}mm umax={:8.5}mm eff={eff:.3} Fz={:9.3e} Fx={:9.3e}", c.y*1e3, c.width*1e3, arc.a, arc.b, arc.depth*1e3, arc.u_max*1e3, load.force.z, load.force.x);
-            }
             let part = usize::from(c.face != 0.0);
             let l = &mut loads[part][s];
             *l += load;

@@ -1060,7 +1060,8 @@ pub fn contact(
         };
         let profile = |k: usize| disc.radius - disc.rho(slice_y(h, n, k));
         for k in 1..n - 1 {
-            if circles[k].sub || engaged[k].is_some() {
+            // (a slice carrying part of its strip at a wall splits that part)
+            if circles[k].sub || circles[k].width <= 0.0 {
                 continue;
             }
             let dev = (d(k) - 0.5 * (d(k - 1) + d(k + 1))).abs();

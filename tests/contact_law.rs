@@ -5,9 +5,11 @@
 //! test says otherwise; tolerances are fractions of the fresh cut's normal
 //! force `FN` (60.8 kN at the reference scene).
 //!
-//! The full sweeps and the 0.25 mm convergence runs fail today (README,
-//! contact law): `cargo test --release --test contact_law -- --ignored`
-//! (about 5 s per sweep and 25 s for the convergence runs in release).
+//! The full sweeps and the convergence runs fail today (README, contact
+//! law): `cargo test --release --test contact_law -- --ignored` (a few
+//! seconds per sweep, about 10 s for the convergence runs in release). Where
+//! the tilt sweep steps most the brute-force oracle steps as much or more
+//! (2.7 % at 31 -> 31.5 deg), so its 2 % asks for more than the reference.
 
 use kerf::core::contact_bruteforce::Resolution;
 use kerf::scenes::*;
@@ -166,7 +168,7 @@ fn forces_move_smoothly_with_tilt_and_offset_where_the_old_law_jumped() {
 }
 
 #[test]
-#[ignore = "fails: 5.2 % of FN at 36 -> 36.5 deg (README, contact law); 141 tilted scenes"]
+#[ignore = "fails: 2.43 % of FN at 41 -> 41.5 deg, the oracle 2.25 % (README, contact law); 141 tilted scenes"]
 fn full_tilt_sweep_0_to_70_degrees_is_continuous() {
     let tilt: Vec<Mean> = (0..=140)
         .map(|k| fresh(1e-3, P_REF, (0.5 * k as f64).to_radians()))
@@ -177,7 +179,7 @@ fn full_tilt_sweep_0_to_70_degrees_is_continuous() {
 }
 
 #[test]
-#[ignore = "fails: 5.9 % of FN at 0 -> 0.1 mm, 4.3 % at 11.2 mm (README, contact law); 201 scenes"]
+#[ignore = "fails: 5.9 % of FN at 0 -> 0.1 mm (oracle 4.1 %), 3.8 % at 0.3 mm (README, contact law); 201 scenes"]
 fn full_offset_sweep_0_to_20_mm_is_continuous() {
     let off: Vec<Mean> = (0..=200)
         .map(|k| beside(1e-3, P_REF, 1e-4 * k as f64))
@@ -203,7 +205,7 @@ fn convergence_scenes(cell: f64) -> Vec<(String, Mean)> {
 }
 
 #[test]
-#[ignore = "fails: 6.5 mm beside a groove (5.4 % at 1 mm, 0.54 % at 0.5 mm cells; README)"]
+#[ignore = "fails: 13 mm beside a groove 3.2 % at 1 mm cells (the oracle too), 6.5 mm 2.75 % at 1 mm and 0.54 % at 0.5 mm (README)"]
 fn forces_converge_with_the_cell_size() {
     let fine = convergence_scenes(0.25e-3);
     let mid = convergence_scenes(0.5e-3);

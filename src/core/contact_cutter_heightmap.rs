@@ -9,7 +9,10 @@
 //! its limitation 10.1). Where neighbouring slices disagree on touching the
 //! rock at an older groove's wall, the edge between them is found by
 //! bisection and those slices carry the touching part of their strip
-//! (`engaged_strips`), so the load follows the wall continuously.
+//! (`engaged_strips`), so the load follows the wall continuously. A strip
+//! that a tilted disc's free edge crosses (`SPLIT_TILT`), or whose slice's
+//! arc depth breaks with its neighbours' (`UNEVEN_DEPTH`), is integrated in
+//! thirds rather than at its middle alone.
 //!
 //! **The leading edge.** A height map blurs the corner where the groove meets
 //! uncut rock over one cell, so the rim's exit from the rock would be found up
@@ -409,6 +412,13 @@ const MAX_RINGS: usize = 24;
 /// each band's arcs are exact).
 const MAX_FLANK_BANDS: usize = 24;
 
+/// Most samples added by splitting strips (two a strip).
+const MAX_SUB: usize = 16;
+
+/// Room for every circle: rim slices, rings, flank bands and the samples of
+/// split strips.
+const MAX_CIRCLES: usize = 101 + MAX_RINGS + 2 * MAX_FLANK_BANDS + MAX_SUB;
+
 /// The part `[s_lo, s_hi]` of the flank on `side` (`s` the distance along
 /// the flank from the tip's edge) whose circles reach below `z_top`: the
 /// lowest point of a circle about the axle is `centre.z + a_z y - m rho`,
@@ -586,6 +596,68 @@ const EDGE_BISECTIONS: usize = 8;
 /// of its bracket, an eighth of the interval): a free edge needs no more.
 const FREE_AFTER: usize = 5;
 
+/// The strip a free edge lies in, between samples `i` and `i + 1` of the
+/// tip (sample 0 the tip's edge `-h`, sample `k + 1` slice `k`, sample
+/// `n + 1` the edge `h`), read at `c`, the middle of its bracket.
+fn split_strip(h: f64, n: usize, i: usize, c: f64) -> usize {
+    if i == 0 {
+        0
+    } else if i == n || c < -h + 2.0 * h * i as f64 / n as f64 {
+        i - 1
+    } else {
+        i
+    }
+}
+
+/// Tilt (the sine of the axle's slope) from which a strip that a free edge
+/// crosses is split in thirds (`engaged_strips`); blended in from upright.
+///
+/// Near a free edge the outermost touching slice's arc starts at its lowest
+/// point, a few micrometres inside the elastic layer, and is carried on by
+/// the look-ahead; on a tilted disc's upper side that start comes and goes
+/// as the tilt moves the circle a few tens of micrometres against the cut
+/// its neighbours leave, switching a ninth of the tip (36 -> 36.5 degrees:
+/// 5.2 % of the reference normal force). Integrating that strip in thirds
+/// cuts the switch to a third. An upright disc keeps the midpoint rule at
+/// its free edges (a fresh cut's sides, shallower than 1.7 mm): the pressure
+/// level is calibrated on it, so fresh cuts stay the closed form bit for bit.
+const SPLIT_TILT: f64 = 0.087;
+
+/// Depth \[m\] by which a slice's arc must break with the mean of its
+/// neighbours' before its strip is integrated in thirds (fully at twice
+/// that); at least three times the tip profile's own curvature there.
+const UNEVEN_DEPTH: f64 = 0.3e-3;
+
+/// Splits rim slice `k`'s strip (middle `yk`, width `w`) in thirds,
+/// blended in by `s`: the slice
+/// keeps `1 - 2 s / 3` of its strip and two new circles at the middles of
+/// the outer thirds carry `s / 3` each.
+#[allow(clippy::too_many_arguments)]
+fn split_in_thirds(
+    circles: &mut [Circle],
+    walks: &mut [[Option<Walk>; 2]],
+    nc: &mut usize,
+    (k, yk, w): (usize, f64, f64),
+    s: f64,
+    walk_at: &dyn Fn(f64) -> [Option<Walk>; 2],
+    disc: &PosedDisc,
+) {
+    circles[k].width = w * (1.0 - 2.0 * s / 3.0);
+    circles[k].sub = true;
+    for y in [yk - w / 3.0, yk + w / 3.0] {
+        circles[*nc] = Circle {
+            y,
+            radius: disc.rho(y),
+            width: s * w / 3.0,
+            face: 0.0,
+            flank: false,
+            sub: true,
+        };
+        walks[*nc] = walk_at(y);
+        *nc += 1;
+    }
+}
+
 /// The rim slices that touch the rock over part of their strip only:
 /// `Some((y, width))`, the middle and width of the touching part (width 0:
 /// none); `None`, the slice as it is.
@@ -615,8 +687,9 @@ fn engaged_strips(
     touches_slice: impl Fn(usize) -> bool,
     touches: impl Fn(f64) -> bool,
     free: impl Fn(f64) -> bool,
-) -> [Option<(f64, f64)>; 101] {
+) -> ([Option<(f64, f64)>; 101], [bool; 101]) {
     let mut out = [None; 101];
+    let mut split = [false; 101];
     let w = 2.0 * h / n as f64;
     // strip boundaries: b(k) is the lower edge of strip k, b(n) = h
     let b = |k: usize| {
@@ -638,7 +711,7 @@ fn engaged_strips(
     pts[n + 1] = (h, touches(h));
     let pts = &pts[..n + 2];
     if pts.iter().all(|p| p.1) {
-        return out;
+        return (out, split);
     }
     // the touching spans across the tip
     let mut spans = [(0.0f64, 0.0f64); 52];
@@ -653,8 +726,10 @@ fn engaged_strips(
         let mut edge = None;
         for j in 0..EDGE_BISECTIONS {
             if j == FREE_AFTER && free(0.5 * (lo + hi)) {
-                // the boundary between the two samples' strips
+                // the boundary between the two samples' strips; the strip
+                // the edge lies in (sample i is slice i - 1) is split
                 edge = Some(b(i));
+                split[split_strip(h, n, i, 0.5 * (lo + hi))] = true;
                 break;
             }
             let m = 0.5 * (lo + hi);
@@ -700,7 +775,14 @@ fn engaged_strips(
         }
         *o = Some((0.5 * (best.0 + best.1), total));
     }
-    out
+    // a split strip keeps its middle as the middle third's sample; one that
+    // carries part of its strip at a wall is not split as well
+    for (sp, o) in split.iter_mut().zip(out.iter()).take(n) {
+        if o.is_some_and(|(_, wd)| wd > 0.0) {
+            *sp = false;
+        }
+    }
+    (out, split)
 }
 
 /// A circle of the disc's surface about the axle that the query walks.
@@ -715,6 +797,9 @@ struct Circle {
     face: f64,
     /// A flank band (`width` is then its width along the flank).
     flank: bool,
+    /// A rim sample of a split strip: its depth counts in full (not in
+    /// proportion to its width) in the side blend.
+    sub: bool,
 }
 
 /// The contact of `disc` with `map` under `law` (kerf's law), for a disc
@@ -751,7 +836,7 @@ pub fn contact(
 
     // the circles: rim slices, then rings on the side face that faces down
     // (the hub face with flanks), then bands along the flanks
-    let mut circles = [Circle::default(); 101 + MAX_RINGS + 2 * MAX_FLANK_BANDS];
+    let mut circles = [Circle::default(); MAX_CIRCLES];
     let mut nc = 0;
     for k in 0..n {
         let y = slice_y(h, n, k);
@@ -761,6 +846,7 @@ pub fn contact(
             width: 2.0 * h / n as f64,
             face: 0.0,
             flank: false,
+            sub: false,
         };
         nc += 1;
     }
@@ -785,6 +871,7 @@ pub fn contact(
                     width: dr,
                     face: side,
                     flank: false,
+                    sub: false,
                 };
                 nc += 1;
             }
@@ -804,6 +891,7 @@ pub fn contact(
                     width: ds,
                     face: side,
                     flank: true,
+                    sub: false,
                 };
                 nc += 1;
             }
@@ -824,7 +912,7 @@ pub fn contact(
     };
     // per circle, both sides: march first, then refine the ends of the arcs
     // on every side whose weight in the blend can matter
-    let mut walks = [[None::<Walk>; 2]; 101 + MAX_RINGS + 2 * MAX_FLANK_BANDS];
+    let mut walks = [[None::<Walk>; 2]; MAX_CIRCLES];
     let mut rim_touches = false;
     for (c, pair) in circles[..nc].iter().zip(walks.iter_mut()) {
         if c.face != 0.0 && !c.flank && rings_idle && rim_touches {
@@ -871,7 +959,7 @@ pub fn contact(
     // circles that still touch alternate with the node rows, no single
     // edge; the rule blends in with the travel speed)
     let m = motion.moving;
-    let engaged = if m > 0.0 {
+    let (engaged, split) = if m > 0.0 {
         engaged_strips(
             h,
             n,
@@ -886,7 +974,7 @@ pub fn contact(
             },
         )
     } else {
-        [None; 101]
+        ([None; 101], [false; 101])
     };
     let w_strip = 2.0 * h / n as f64;
     for (k, e) in engaged.iter().enumerate().take(n) {
@@ -907,7 +995,28 @@ pub fn contact(
             };
         }
     }
-    let circles = &circles[..nc];
+    // a strip a free edge crosses on a tilted disc is integrated in thirds:
+    // its middle sample and one at the middle of each outer third, blended
+    // in with the travel speed (like the edge search) and with the tilt
+    // (`SPLIT_TILT`)
+    let sm = m * smoothstep(axle_z.abs() / SPLIT_TILT);
+    // (the samples of split strips follow the other circles)
+    let n_main = nc;
+    for (k, &sp) in split.iter().enumerate().take(n) {
+        if sm <= 0.0 || !sp || nc + 2 > n_main + MAX_SUB {
+            continue;
+        }
+        let yk = slice_y(h, n, k);
+        split_in_thirds(
+            &mut circles,
+            &mut walks,
+            &mut nc,
+            (k, yk, w_strip),
+            sm,
+            &walk_at,
+            disc,
+        );
+    }
     let mut lo = [0.0f64; 2];
     let mut hi = [0.0f64; 2];
     for pair in walks.iter().take(nc) {
@@ -925,6 +1034,48 @@ pub fn contact(
     let refine_side = [matters(0), matters(1)];
     // circles that may turn out deepest get the fine tolerance
     let deepest_lo = lo[0].max(lo[1]);
+    let finish_pair = |pair: &[Option<Walk>; 2]| -> [Option<Arc>; 2] {
+        let may_govern = pair
+            .iter()
+            .flatten()
+            .any(|w| w.depth_bound(disc) >= deepest_lo);
+        let tol = if may_govern { ANGLE_TOL } else { LEAN_TOL };
+        [0, 1].map(|s| pair[s].map(|w| w.finish(map, disc, look, refine_side[s], tol)))
+    };
+    // the rim slices' arcs first: a slice whose arc depth breaks with its
+    // neighbours' (an arc end on an older groove's blurred wall or floor,
+    // which moves steeply with the slice's place in its cell) is
+    // integrated in thirds as well
+    let mut slice_arcs = [[None::<Arc>; 2]; 101];
+    for (k, a) in slice_arcs.iter_mut().enumerate().take(n) {
+        *a = finish_pair(&walks[k]);
+    }
+    if m > 0.0 && n >= 3 {
+        let d = |k: usize| {
+            slice_arcs[k]
+                .iter()
+                .flatten()
+                .map(|a| a.depth)
+                .fold(0.0, f64::max)
+        };
+        let profile = |k: usize| disc.radius - disc.rho(slice_y(h, n, k));
+        for k in 1..n - 1 {
+            // (a slice carrying part of its strip at a wall splits that part)
+            if circles[k].sub || circles[k].width <= 0.0 {
+                continue;
+            }
+            let dev = (d(k) - 0.5 * (d(k - 1) + d(k + 1))).abs();
+            // the tip profile's own curvature across the neighbours
+            let own = 0.5 * (profile(k - 1) + profile(k + 1)) - profile(k);
+            let lo = UNEVEN_DEPTH.max(3.0 * own.abs());
+            let su = m * smoothstep((dev - lo) / lo);
+            if su > 0.0 && nc + 2 <= n_main + MAX_SUB {
+                let strip = (k, circles[k].y, circles[k].width);
+                split_in_thirds(&mut circles, &mut walks, &mut nc, strip, su, &walk_at, disc);
+            }
+        }
+    }
+    let circles = &circles[..nc];
 
     // the load of every arc
     let psi = law.psi();
@@ -934,23 +1085,24 @@ pub fn contact(
     let mut any = false;
     // the deepest rim arc, for the slip point, and the lean of the tip
     let mut gov: Option<(usize, f64)> = None;
-    let mut arcs = [[None::<Arc>; 2]; 101];
+    let mut sub_arcs = [[None::<Arc>; 2]; MAX_SUB];
     for (ci, c) in circles.iter().enumerate() {
         if c.face != 0.0 && !c.flank && rings_idle {
             any |= walks[ci].iter().any(Option::is_some);
             continue;
         }
-        let may_govern = walks[ci]
-            .iter()
-            .flatten()
-            .any(|w| w.depth_bound(disc) >= deepest_lo);
-        let tol = if may_govern { ANGLE_TOL } else { LEAN_TOL };
+        let finished = if ci < n {
+            slice_arcs[ci]
+        } else {
+            finish_pair(&walks[ci])
+        };
         for s in 0..2 {
-            let Some(w) = walks[ci][s] else { continue };
-            let arc = w.finish(map, disc, look, refine_side[s], tol);
+            let Some(arc) = finished[s] else { continue };
             any = true;
             if c.face == 0.0 {
-                arcs[ci][s] = Some(arc);
+                if ci >= n_main {
+                    sub_arcs[ci - n_main][s] = Some(arc);
+                }
                 if gov.is_none_or(|(_, d)| arc.depth > d) {
                     gov = Some((ci, arc.depth));
                 }
@@ -981,7 +1133,9 @@ pub fn contact(
             // a slice that touches over part of its strip sets the depth
             // in proportion to that part, up to half its strip: a sliver of
             // contact entering a strip does not move the penetration
-            let share = if c.face == 0.0 {
+            let share = if c.sub {
+                1.0
+            } else if c.face == 0.0 {
                 (2.0 * c.width / w_strip).min(1.0)
             } else {
                 1.0
@@ -1003,10 +1157,18 @@ pub fn contact(
     };
     // friction reads the slip where the cutting rim arc is lowest
     if let Some((kg, _)) = gov {
-        let [ap, am] = arcs[kg];
+        let rim_arcs = |ci: usize| {
+            if ci < n {
+                slice_arcs[ci]
+            } else {
+                sub_arcs[ci - n_main]
+            }
+        };
+        let [ap, am] = rim_arcs(kg);
         let theta_slip = wp * ap.map_or(0.0, |a| a.a) + wm * am.map_or(0.0, |a| a.a);
         let (mut wsum, mut ysum) = (0.0, 0.0);
-        for (k, pair) in arcs.iter().enumerate().take(n) {
+        for k in (0..n).chain(n_main..nc) {
+            let pair = rim_arcs(k);
             let len = |a: Option<Arc>| a.map_or(0.0, |a| a.length);
             // (a slice carrying part of its strip weighs in proportion)
             let w = (wp * len(pair[0]) + wm * len(pair[1])) * (circles[k].width / w_strip);

@@ -591,7 +591,7 @@ pub fn assemble(
 
 /// Bisections that place the edge of the contact across the tip: the
 /// interval between two samples is split to `2^-EDGE_BISECTIONS` of its width.
-const EDGE_BISECTIONS: usize = 8;
+const EDGE_BISECTIONS: usize = 6;
 /// After this many bisections the edge is told free or not (at the middle
 /// of its bracket, an eighth of the interval): a free edge needs no more.
 const FREE_AFTER: usize = 5;

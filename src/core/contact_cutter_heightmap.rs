@@ -318,11 +318,7 @@ pub fn march(
     let dt = dir * reach / n as f64;
     let (sd, cd) = dt.sin_cos();
     let (mut s, mut c) = theta0.sin_cos();
-    let advance = |s: &mut f64, c: &mut f64| {
-        let s1 = *s * cd + *c * sd;
-        *c = *c * cd - *s * sd;
-        *s = s1;
-    };
+    let advance = |s: &mut f64, c: &mut f64| advance_by(s, c, sd, cd);
     // contact starts where the rim is below the rock itself ...
     let (here0, ahead0) = rim.overlap(map, s, c, dir, look);
     let mut k = 0;
@@ -341,21 +337,34 @@ pub fn march(
         // than any step
         let mut angles: Vec<f64> = (1..=m).map(|kf| theta0 + dtf * kf as f64).collect();
         let g = map.grid();
+        let mut crossed = false;
         for (axis, edges) in [(0usize, [g.x_min, g.x_max()]), (1, [g.y_min, g.y_max()])] {
             for e in edges {
                 for t in rim.crossings(axis, e) {
                     let off = wrap(t - theta0) * dir;
                     if off > 0.0 && off < reach {
                         angles.push(theta0 + off * dir);
+                        crossed = true;
                     }
                 }
             }
         }
-        angles.sort_by(|p, q| ((p - theta0) * dir).total_cmp(&((q - theta0) * dir)));
+        if crossed {
+            angles.sort_by(|p, q| ((p - theta0) * dir).total_cmp(&((q - theta0) * dir)));
+        }
+        // on the even grid of angles (no map edge crossed, the usual case)
+        // the rim point turns by a fixed rotation, as in the walk below
+        let (sdf, cdf) = dtf.sin_cos();
+        let (mut sf, mut cf) = (s, c);
         let (mut tp, mut up) = (theta0, here0);
         let mut found = None;
         for &t in &angles {
-            let (st, ct) = t.sin_cos();
+            let (st, ct) = if crossed {
+                t.sin_cos()
+            } else {
+                advance_by(&mut sf, &mut cf, sdf, cdf);
+                (sf, cf)
+            };
             let (here, ahead) = rim.overlap(map, st, ct, dir, look);
             if here > 0.0 {
                 found = Some((t, tp, up, here, ahead));
@@ -398,6 +407,15 @@ pub fn march(
         b_out,
         u_max,
     })
+}
+
+/// Turns the rim angle whose sine and cosine are `(s, c)` by the angle
+/// whose sine and cosine are `(sd, cd)`.
+#[inline]
+fn advance_by(s: &mut f64, c: &mut f64, sd: f64, cd: f64) {
+    let s1 = *s * cd + *c * sd;
+    *c = *c * cd - *s * sd;
+    *s = s1;
 }
 
 /// A side whose blend weight cannot exceed this is not refined: its arcs

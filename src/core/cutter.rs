@@ -247,11 +247,20 @@ impl PosedDisc {
         if start >= cap {
             return None;
         }
-        let g = |t: f64| {
+        // g and its slope together: they share the point and both square
+        // roots (the same values `rho` and a separate slope would compute)
+        let r = self.tip_radius;
+        let gd = |t: f64| {
             let q = a + d * t;
-            (q.x * q.x + q.z * q.z).sqrt() - self.rho(q.y.clamp(-h, h))
+            let m0 = (q.x * q.x + q.z * q.z).sqrt();
+            let y = q.y.clamp(-h, h);
+            let s2 = r * r - y * y;
+            let sq = s2.max(0.0).sqrt();
+            let root = if s2 >= 1e-300 { sq } else { 1e-300f64.sqrt() };
+            let g = m0 - (self.radius - r + sq);
+            (g, (q.x * d.x + q.z * d.z) / m0.max(1e-300) + y / root * d.y)
         };
-        if start == t1 && g(t1) <= 0.0 {
+        if start == t1 && gd(t1).0 <= 0.0 {
             let qy = a.y + d.y * t1;
             return Some((t1, Face::Side(if qy > 0.0 { 1 } else { -1 })));
         }
@@ -260,16 +269,8 @@ impl PosedDisc {
         // while g falls; if g stops falling first, its minimum is positive
         // and the line misses the disc. Every iterate is a lower bound of the
         // root, so one at or past `cap` ends the search.
-        let r = self.tip_radius;
-        let dg = |t: f64| {
-            let q = a + d * t;
-            let m = (q.x * q.x + q.z * q.z).sqrt().max(1e-300);
-            let y = q.y.clamp(-h, h);
-            let root = (r * r - y * y).max(1e-300).sqrt();
-            (q.x * d.x + q.z * d.z) / m + y / root * d.y
-        };
         let t = start;
-        let gt = g(start);
+        let (gt, st) = gd(start);
         if gt <= 0.0 {
             // entered the cylinder where the rim is at radius R: the root
             return Some((
@@ -279,7 +280,7 @@ impl PosedDisc {
                 },
             ));
         }
-        let inn = first_root(g, dg, t, gt, t2.min(cap))?;
+        let inn = first_root(gd, t, gt, st, t2.min(cap))?;
         let qy = (a.y + d.y * inn).clamp(-h, h);
         Some((inn, Face::Rim { y: qy }))
     }
@@ -341,18 +342,10 @@ impl PosedDisc {
         } else if cc > 0.0 {
             return None;
         }
-        let g = |t: f64| {
-            let q = a + d * t;
-            (q.x * q.x + q.z * q.z).sqrt() - self.rho_full(q.y.clamp(-hw, hw))
-        };
-        if g(t1) <= 0.0 {
-            let qy = a.y + d.y * t1;
-            return Some((t1, Face::Side(if qy > 0.0 { 1 } else { -1 })));
-        }
         let r = self.tip_radius;
-        let dg = |t: f64| {
+        let gd = |t: f64| {
             let q = a + d * t;
-            let m = (q.x * q.x + q.z * q.z).sqrt().max(1e-300);
+            let m0 = (q.x * q.x + q.z * q.z).sqrt();
             let y = q.y.clamp(-hw, hw);
             // d rho_full / dy: the tip profile's slope, or the flank's
             let drho = if y.abs() <= h {
@@ -360,10 +353,18 @@ impl PosedDisc {
             } else {
                 -y.signum() * self.flank_cot
             };
-            (q.x * d.x + q.z * d.z) / m - drho * d.y
+            (
+                m0 - self.rho_full(y),
+                (q.x * d.x + q.z * d.z) / m0.max(1e-300) - drho * d.y,
+            )
         };
+        if gd(t1).0 <= 0.0 {
+            let qy = a.y + d.y * t1;
+            return Some((t1, Face::Side(if qy > 0.0 { 1 } else { -1 })));
+        }
         let t = t1.max(t_r);
-        let inn = first_root(g, dg, t, g(t), t2)?;
+        let (gt, st) = gd(t);
+        let inn = first_root(gd, t, gt, st, t2)?;
         let qy = (a.y + d.y * inn).clamp(-hw, hw);
         Some((inn, face_at(qy)))
     }
@@ -534,20 +535,20 @@ impl PosedDisc {
     }
 }
 
-/// The first root of a convex `g` (slope `dg`) by Newton from `t`, where
-/// `g(t) = gt > 0` and `t` lies left of that root: the iterates climb
-/// monotonically, each a lower bound of the root. `None` when `g` stops
-/// falling first (its minimum is positive: no root) or an iterate passes
-/// `limit` (the root lies beyond it).
+/// The first root of a convex `g` by Newton from `t`, where `g(t) = gt > 0`
+/// with slope `st` and `t` lies left of that root: the iterates climb
+/// monotonically, each a lower bound of the root. `gd(t)` gives `g` and its
+/// slope together. `None` when `g` stops falling first (its minimum is
+/// positive: no root) or an iterate passes `limit` (the root lies beyond
+/// it).
 fn first_root(
-    g: impl Fn(f64) -> f64,
-    dg: impl Fn(f64) -> f64,
+    gd: impl Fn(f64) -> (f64, f64),
     mut t: f64,
     mut gt: f64,
+    mut slope: f64,
     limit: f64,
 ) -> Option<f64> {
     for _ in 0..60 {
-        let slope = dg(t);
         if slope >= 0.0 {
             return None;
         }
@@ -555,12 +556,13 @@ fn first_root(
         if next > limit {
             return None;
         }
-        let gn = g(next);
+        let (gn, sn) = gd(next);
         if gn <= 1e-13 || next - t < 1e-13 {
             return Some(next);
         }
         t = next;
         gt = gn;
+        slope = sn;
     }
     None
 }

@@ -510,13 +510,6 @@ def test_sliding_off_the_side_edge_ends_at_zero_without_nan(fmu, kind):
     assert np.all(res["normalForce"][on] > 0.9 * FN_REF)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the force does not scale with the width of tip on the rock: rolling at 3.8 mm and sliding "
-    "vy = 0.1 m/s (0.1 mm per 1 ms sample) off the side edge y = 0.1, normalForce steps at "
-    "each of the 9 tip slices (62.7 -> 60.4 kN at y = 0.1015, 60.3 -> 55.7 at 0.1029, "
-    "55.4 -> 47.3 at 0.1044) and drops 47.5 kN -> 0 at y = 0.1058, while 0.7 mm of the tip "
-    "edge (2 mm deep) is still on the rock; static repro: CS at rest, x = 0.5, z = 0.2121: "
-    "y = 0.1055 gives 43.3 kN, y = 0.1060 gives 0 N"))
 @pytest.mark.parametrize("kind", KINDS)
 def test_sliding_off_the_side_edge_unloads_without_a_jump(fmu, kind):
     """Same run.  Physics: per sample a strip of tip 0.1 mm wide leaves the

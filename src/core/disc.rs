@@ -6,8 +6,10 @@
 //! The operations that move discs and cut the face ([`commit_paths`],
 //! [`sweep`]) take any number of discs: the single-disc [`super::Model`]
 //! and the cutterhead [`super::head::Head`] both run through them. Discs are
-//! evaluated in parallel (they only read the face) and cut in their fixed
-//! order, so the results do not depend on the number of threads.
+//! evaluated in parallel (they only read the face). They cut in a fixed
+//! order, time by time, discs in layout order; discs whose windows share no
+//! tile cut at once (`cut_together`), which leaves the face that order
+//! leaves. The results do not depend on the number of threads.
 
 use std::cell::Cell;
 

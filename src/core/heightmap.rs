@@ -14,6 +14,12 @@
 //! the state before every step therefore pays for the tiles the step cuts,
 //! not for the face.
 //!
+//! Cuts walk the map a row at a time ([`HeightMap::lower_row`]): a tile is
+//! looked up and unshared once per run of a row inside it. Cuts far apart
+//! can run at once on [`Patch`]es, disjoint rectangles of tiles peeled off
+//! the directory as plain `&mut` slices ([`HeightMap::patches`]; no undo
+//! record may be open).
+//!
 //! A step's undo record ([`HeightMap::begin_undo`]) logs each node write with
 //! what it overwrote, and the tiles the step allocated: rolling back costs
 //! what the step wrote, never the directory, and keeping a step costs no tile

@@ -496,3 +496,51 @@ fn steady_boring_face_discs_carry_the_csm_force_of_their_depth_per_revolution() 
     // depth, so less than a disc alone on its track
     assert!(sum[2] < 0.8 * sum[1] && sum[3] < 0.8 * sum[1], "{sum:?}");
 }
+
+/// A host that steps a head by hours is refused before anything changes,
+/// with the split that fits, in both drives and in a Model Exchange commit;
+/// the step the message names then runs.
+#[test]
+fn a_step_too_long_for_one_call_is_refused_untouched() {
+    let mut head = small_head();
+    let w = 3.0 * std::f64::consts::TAU / 60.0;
+    let twist = Twist::new(
+        [0.0, 0.0, -0.006 * w / std::f64::consts::TAU],
+        [0.0, 0.0, w],
+    );
+    let start = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    head.advance_head(&start, &twist, 1e-3).unwrap();
+    let before = head.state().to_bytes();
+    let e = head
+        .advance_head(&start, &twist, 3600.0)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("refused, nothing changed") && e.contains("split it into at least"),
+        "{e}"
+    );
+    assert_eq!(head.state().to_bytes(), before);
+    let motions = head.place(&start, &twist);
+    let e = head
+        .advance_discs(&motions, 3600.0)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("split it into at least"), "{e}");
+    assert_eq!(head.state().to_bytes(), before);
+    head.advance_head(&start, &twist, 1.0).unwrap();
+    assert_ne!(head.state().to_bytes(), before);
+    // Model Exchange: an event half a turn after the last commit, at a
+    // sweep step of 20 um (the outer disc's path: ~1.8 m, 90 000 sub-steps)
+    let mut p = params(0.75);
+    p.numerics.sweep_step = 2e-5;
+    let mut me = Head::new(p, small_head().specs().to_vec()).unwrap();
+    me.commit(&me.place(&start, &twist), 1e-3).unwrap();
+    let before = me.state().to_bytes();
+    let half = advance_rigid(&start, &twist, 10.0);
+    let e = me
+        .commit(&me.place(&half, &twist), 10.0)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("split it into at least"), "{e}");
+    assert_eq!(me.state().to_bytes(), before);
+}

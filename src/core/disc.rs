@@ -22,11 +22,11 @@ use super::contact_thesis::contact_thesis;
 use super::csm::CsmLaw;
 use super::cut_cutter_heightmap::{cut, cut_patch, node_window, would_cut, CutStats, Window};
 use super::cutter::PosedDisc;
-use super::error::Result;
+use super::error::{KerfError, Result};
 use super::face::Face;
 use super::heightmap::{HeightMap, TileRect};
 use super::model::{check_interval, friction_force, steps_for, Outputs};
-use super::params::{CsmParams, CutterParams, DirectionRule, Params};
+use super::params::{CsmParams, CutterParams, DirectionRule, Params, MAX_SUBSTEPS_PER_CALL};
 use super::pose::{Pose, Twist};
 
 /// A disc: geometry, CSM law (with its own spacing) and the last evaluation.
@@ -291,10 +291,6 @@ pub fn commit_paths(
     params: &Params,
 ) -> Result<bool> {
     check_interval(dt)?;
-    let outputs = evaluate_all(discs, &face.map, motions, params);
-    for (o, (_, twist)) in outputs.iter().zip(motions) {
-        face.cutting_energy += o.work_on_rock(twist, dt);
-    }
     // per disc: the path from its last cut, if it has one, and its sub-steps
     let plans: Vec<Option<Path>> = states
         .iter()
@@ -328,6 +324,16 @@ pub fn commit_paths(
             })
         })
         .collect();
+    check_sub_steps(
+        &counts,
+        params,
+        "the event's paths since the last commit",
+        dt,
+    )?;
+    let outputs = evaluate_all(discs, &face.map, motions, params);
+    for (o, (_, twist)) in outputs.iter().zip(motions) {
+        face.cutting_energy += o.work_on_rock(twist, dt);
+    }
     let (changed, _) = cut_in_time_order(face, discs, states, params, &counts, |k, n| {
         let t = k as f64 / n as f64;
         Ok(plans
@@ -350,6 +356,27 @@ pub fn commit_paths(
         discs.iter().for_each(Disc::forget);
     }
     Ok(changed)
+}
+
+/// Refuses, before anything changes, a call in which some disc would take
+/// more than [`MAX_SUBSTEPS_PER_CALL`] sub-steps (a host stepping a head by
+/// hours), naming the split that would fit. `what` and `span` (its
+/// duration) name the call.
+fn check_sub_steps(counts: &[usize], params: &Params, what: &str, span: f64) -> Result<()> {
+    let Some((i, &n)) = counts.iter().enumerate().max_by_key(|&(_, n)| *n) else {
+        return Ok(());
+    };
+    if n as f64 <= MAX_SUBSTEPS_PER_CALL {
+        return Ok(());
+    }
+    let parts = (n as f64 / MAX_SUBSTEPS_PER_CALL).ceil();
+    Err(KerfError::TooMuchWork(format!(
+        "{what} ({span} s) takes disc {i} through {n:e} sub-steps of numerics.sweepStep = {} m, \
+         more than the {MAX_SUBSTEPS_PER_CALL:e} one call may take: split it into at least \
+         {parts} steps of at most {:e} s",
+        params.numerics.sweep_step,
+        span / parts
+    )))
 }
 
 /// Cuts disc `i` at its `counts[i]` times `k / counts[i]` (`k = 1..=`
@@ -418,6 +445,7 @@ pub fn sweep(
     counts: &[usize],
     path: impl Fn(f64) -> Result<Vec<(Pose, Twist)>>,
 ) -> Result<Vec<(Pose, Twist)>> {
+    check_sub_steps(counts, params, "the step", h)?;
     // at the start of the run (nothing cut yet) a disc's start pose is cut
     // first, as Model Exchange's initial event does (kerf.fmu's rule)
     let mut first = false;

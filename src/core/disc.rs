@@ -22,11 +22,11 @@ use super::contact_thesis::contact_thesis;
 use super::csm::CsmLaw;
 use super::cut_cutter_heightmap::{cut, cut_patch, node_window, would_cut, CutStats, Window};
 use super::cutter::PosedDisc;
-use super::error::{KerfError, Result};
+use super::error::Result;
 use super::face::Face;
 use super::heightmap::{HeightMap, TileRect};
-use super::model::{check_interval, friction_force, steps_for, Outputs};
-use super::params::{CsmParams, CutterParams, DirectionRule, Params, MAX_SUBSTEPS_PER_CALL};
+use super::model::{bound_sub_steps, check_interval, friction_force, steps_for, Outputs};
+use super::params::{CsmParams, CutterParams, DirectionRule, Params};
 use super::pose::{Pose, Twist};
 
 /// A disc: geometry, CSM law (with its own spacing) and the last evaluation.
@@ -359,24 +359,20 @@ pub fn commit_paths(
 }
 
 /// Refuses, before anything changes, a call in which some disc would take
-/// more than [`MAX_SUBSTEPS_PER_CALL`] sub-steps (a host stepping a head by
+/// more than `MAX_SUBSTEPS_PER_CALL` sub-steps (a host stepping a head by
 /// hours), naming the split that would fit. `what` and `span` (its
 /// duration) name the call.
 fn check_sub_steps(counts: &[usize], params: &Params, what: &str, span: f64) -> Result<()> {
-    let Some((i, &n)) = counts.iter().enumerate().max_by_key(|&(_, n)| *n) else {
-        return Ok(());
-    };
-    if n as f64 <= MAX_SUBSTEPS_PER_CALL {
-        return Ok(());
+    match counts.iter().enumerate().max_by_key(|&(_, n)| *n) {
+        Some((i, &n)) => bound_sub_steps(
+            n as f64,
+            params.numerics.sweep_step,
+            what,
+            span,
+            &format!("takes disc {i} through"),
+        ),
+        None => Ok(()),
     }
-    let parts = (n as f64 / MAX_SUBSTEPS_PER_CALL).ceil();
-    Err(KerfError::TooMuchWork(format!(
-        "{what} ({span} s) takes disc {i} through {n:e} sub-steps of numerics.sweepStep = {} m, \
-         more than the {MAX_SUBSTEPS_PER_CALL:e} one call may take: split it into at least \
-         {parts} steps of at most {:e} s",
-        params.numerics.sweep_step,
-        span / parts
-    )))
 }
 
 /// Cuts disc `i` at its `counts[i]` times `k / counts[i]` (`k = 1..=`

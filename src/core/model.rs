@@ -214,6 +214,29 @@ pub fn steps_for(travel: f64, step: f64) -> f64 {
     (travel / step * (1.0 - 1e-12)).ceil().max(1.0)
 }
 
+/// Refuses a call (`what`, lasting `span`) that would take `n` sub-steps of
+/// `sweep_step`, more than [`MAX_SUBSTEPS_PER_CALL`], naming the split that
+/// fits; `moving` says what travels that far. The one-disc model and the
+/// head check with it before anything changes.
+pub(crate) fn bound_sub_steps(
+    n: f64,
+    sweep_step: f64,
+    what: &str,
+    span: f64,
+    moving: &str,
+) -> Result<()> {
+    if n <= MAX_SUBSTEPS_PER_CALL {
+        return Ok(());
+    }
+    let parts = (n / MAX_SUBSTEPS_PER_CALL).ceil();
+    Err(KerfError::TooMuchWork(format!(
+        "{what} ({span} s) {moving} {n:e} sub-steps of numerics.sweepStep = {sweep_step} m, \
+         more than the {MAX_SUBSTEPS_PER_CALL:e} one call may take: split it into at least \
+         {parts} steps of at most {:e} s",
+        span / parts
+    )))
+}
+
 /// Speed of a rim point of a disc at `pose` moving with `twist`, as a
 /// Co-Simulation step counts its travel: the centre's speed plus the turn
 /// rate of the disc's frame (the spin about the axle left out) times `radius`.
@@ -486,16 +509,8 @@ impl Model {
     fn sub_steps(&self, travel: f64, what: &str, span: f64) -> Result<usize> {
         let s = self.params.numerics.sweep_step;
         let n = steps_for(travel, s);
-        if n <= MAX_SUBSTEPS_PER_CALL {
-            return Ok(n as usize);
-        }
-        let parts = (n / MAX_SUBSTEPS_PER_CALL).ceil();
-        Err(KerfError::TooMuchWork(format!(
-            "{what} ({span} s) moves the rim {travel:e} m, {n:e} sub-steps of numerics.sweepStep = {s} m, \
-             more than the {MAX_SUBSTEPS_PER_CALL:e} one call may take: split it into at least \
-             {parts} steps of at most {:e} s",
-            span / parts
-        )))
+        bound_sub_steps(n, s, what, span, &format!("moves the rim {travel:e} m,"))?;
+        Ok(n as usize)
     }
 
     /// Checks every pose of a path and the nodes its cuts would scan.

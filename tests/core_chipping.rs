@@ -107,6 +107,32 @@ fn far_apart_the_ridge_stays() {
     assert_eq!(m.map().height(0.3, -0.05), 0.0);
 }
 
+/// `chipping.pressureScale` belongs to relieved passes: a pass whose cracks
+/// reach no free surface breaks out nothing, so its rock is the rock without
+/// chips, and so is its force, bit for bit (the factor used to apply to
+/// every pass with chipping on: 1.56 times the closed form here). A relieved
+/// pass takes the factor from its first chip boundary on.
+#[test]
+fn only_a_relieved_pass_takes_the_pressure_scale() {
+    let p = block(true, 1);
+    let plain = CsmLaw::new(p.cutter, p.csm, p.numerics.p_reg);
+    // far apart (S = 100 mm > T + kappa p): neither pass is relieved
+    let (m_on, on, _) = two_passes(0.1, true, 1, 1.0, 0.002);
+    let (_, off, _) = two_passes(0.1, false, 1, 1.0, 0.002);
+    assert!(!m_on.state().disc().chips().relieved);
+    assert_eq!(*m_on.law(), plain);
+    assert_eq!(on.len(), off.len());
+    for (a, b) in on.iter().zip(&off) {
+        assert_eq!(a.force, b.force);
+        assert_eq!(a.normal_force.to_bits(), b.normal_force.to_bits());
+    }
+    // beside a groove at 51 mm: relieved, and the law is the scaled one
+    let (m, rel, _) = two_passes(0.051, true, 1, 1.0, 0.002);
+    assert!(m.state().disc().chips().relieved);
+    assert_eq!(m.law().pressure_scale(), p.chipping.pressure_scale);
+    assert!(rel.last().unwrap().chip_count > 0);
+}
+
 #[test]
 fn chips_do_not_depend_on_speed_or_step_and_replay_bit_for_bit() {
     let (a, oa, _) = two_passes(0.051, true, 7, 1.0, 0.002);

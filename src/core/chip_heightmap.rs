@@ -50,7 +50,7 @@ pub struct ChipParams {
     /// Half-width of the uniform scatter of the chip length, as a share of
     /// the mean \[1\], in `[0, 1)`.
     pub length_spread: f64,
-    /// Factor on the CSM pressure level while chips break out \[1\]
+    /// Factor on the CSM pressure level while the pass is relieved \[1\]
     /// (`chipping.pressureScale`). The CSM's constants were fitted to LCM
     /// tests in which chips broke out, so its closed form holds the chips'
     /// effect on the mean force; kerf's chips remove that rock from the
@@ -58,8 +58,11 @@ pub struct ChipParams {
     /// carries only 0.64 of the closed form's mean. The default,
     /// [`PRESSURE_SCALE_DEFAULT`], brings the mean back. It scales the
     /// pressure (the law's `P'`), not the force: the saw-tooth still comes
-    /// from the rock's shape. Without chips it does nothing (see
-    /// [`ChipParams::pressure_scale_in_use`]).
+    /// from the rock's shape. It applies only while the disc's pass is
+    /// relieved ([`ChipState::relieved`]): a pass with no free surface in a
+    /// crack's reach breaks out no chips, its rock is the rock without chips,
+    /// and it keeps the closed form's pressure. Without chips it does nothing
+    /// (see [`ChipParams::pressure_scale_in_use`]).
     pub pressure_scale: f64,
 }
 
@@ -135,6 +138,13 @@ pub struct ChipState {
     pub count: u64,
     /// Rock removed as chips \[m3\].
     pub volume: f64,
+    /// Whether the pass is relieved: at the last chip boundary the disc
+    /// crossed while cutting, a crack reached a free surface (a neighbouring
+    /// groove, a chip's crater, the edge of the rock) on either side. The
+    /// force law then takes `chipping.pressureScale`; before the pass's
+    /// first boundary, and on a pass whose cracks reach nothing, it keeps
+    /// the closed form's pressure. A jump to a new pass clears it.
+    pub relieved: bool,
 }
 
 impl ChipState {
@@ -197,6 +207,10 @@ impl ChipState {
             let prev = Vector3::from(prev);
             let (dx, dy) = (low.x - prev.x, low.y - prev.y);
             let ds = dx.hypot(dy);
+            if ds > max_step {
+                // a new pass: relieved once its own first boundary says so
+                self.relieved = false;
+            }
             if ds > 0.0 && ds <= max_step {
                 let heading = [dx / ds, dy / ds];
                 let end = self.travel + ds;
@@ -220,6 +234,7 @@ impl ChipState {
                         let s = break_out(map, &b);
                         stats.count += s.count;
                         stats.volume += s.volume;
+                        self.relieved = s.relieved;
                     }
                     self.index += 1;
                     self.next += length;
@@ -239,6 +254,9 @@ impl ChipState {
 pub struct ChipStats {
     pub count: u64,
     pub volume: f64,
+    /// A crack reached a free surface on some side (the last boundary's,
+    /// for a call that crossed several).
+    pub relieved: bool,
 }
 
 /// One place where chips may break out: both sides of a groove, over a length
@@ -405,6 +423,7 @@ pub fn break_out(map: &mut HeightMap, b: &Breakout) -> ChipStats {
         let Some(r) = relief(map, b, side) else {
             continue;
         };
+        stats.relieved = true;
         let v = lower_to_chip(map, b, side, &r);
         if v > 0.0 {
             stats.count += 1;

@@ -33,17 +33,21 @@ use super::pose::{Pose, Twist};
 #[derive(Debug)]
 pub struct Disc {
     cutter: CutterParams,
-    law: CsmLaw,
-    /// The last evaluation (pose, twist, outputs without bookkeeping);
-    /// cleared whenever the face changes.
-    cache: Cell<Option<(Pose, Twist, Outputs)>>,
+    /// The law at the closed form's pressure, and the law of a relieved
+    /// pass (its pressure times `pressure_scale`; the same law without chips).
+    plain: CsmLaw,
+    relieved: CsmLaw,
+    /// The last evaluation (pose, twist, relieved, outputs without
+    /// bookkeeping); cleared whenever the face changes.
+    cache: Cell<Option<(Pose, Twist, bool, Outputs)>>,
 }
 
 impl Clone for Disc {
     fn clone(&self) -> Self {
         Self {
             cutter: self.cutter,
-            law: self.law,
+            plain: self.plain,
+            relieved: self.relieved,
             cache: Cell::new(None),
         }
     }
@@ -79,13 +83,14 @@ impl DiscState {
 
 impl Disc {
     /// A disc of geometry `cutter` under the CSM law `csm` (its spacing is
-    /// this disc's), its pressure times `pressure_scale`
-    /// (`ChipParams::pressure_scale_in_use`: 1 without chips). `p_reg`
-    /// regularises the law at zero penetration.
+    /// this disc's), its pressure times `pressure_scale` while its pass is
+    /// relieved ([`ChipState::relieved`]; `ChipParams::pressure_scale_in_use`
+    /// is 1 without chips). `p_reg` regularises the law at zero penetration.
     pub fn new(cutter: CutterParams, csm: CsmParams, p_reg: f64, pressure_scale: f64) -> Self {
         Self {
             cutter,
-            law: CsmLaw::scaled(cutter, csm, p_reg, pressure_scale),
+            plain: CsmLaw::new(cutter, csm, p_reg),
+            relieved: CsmLaw::scaled(cutter, csm, p_reg, pressure_scale),
             cache: Cell::new(None),
         }
     }
@@ -94,8 +99,19 @@ impl Disc {
         &self.cutter
     }
 
+    /// The law at the closed form's pressure (a pass that is not relieved).
     pub fn law(&self) -> &CsmLaw {
-        &self.law
+        &self.plain
+    }
+
+    /// The law the disc cuts with in `state`: the relieved pass's, or the
+    /// closed form's pressure.
+    pub fn law_in(&self, state: &DiscState) -> &CsmLaw {
+        if state.chips.relieved {
+            &self.relieved
+        } else {
+            &self.plain
+        }
     }
 
     /// The disc at `pose`, ready for geometric queries.
@@ -103,20 +119,36 @@ impl Disc {
         PosedDisc::new(&self.cutter, pose)
     }
 
-    /// The contact geometry and cutting force (no friction) at `pose`.
-    pub fn contact(&self, map: &HeightMap, pose: &Pose, twist: &Twist, params: &Params) -> Contact {
+    /// The contact geometry and cutting force (no friction) at `pose`, in
+    /// `state`.
+    pub fn contact(
+        &self,
+        map: &HeightMap,
+        state: &DiscState,
+        pose: &Pose,
+        twist: &Twist,
+        params: &Params,
+    ) -> Contact {
         let disc = self.posed(pose);
         let n = &params.numerics;
+        let law = self.law_in(state);
         match n.direction {
-            DirectionRule::Kerf => contact(map, &disc, &self.law, n, n.elastic_depth, twist),
-            DirectionRule::Thesis => contact_thesis(map, &disc, &self.law, n, twist),
+            DirectionRule::Kerf => contact(map, &disc, law, n, n.elastic_depth, twist),
+            DirectionRule::Thesis => contact_thesis(map, &disc, law, n, twist),
         }
     }
 
-    /// Force and moment on the disc at `pose` moving with `twist`, against
-    /// `map` (no bookkeeping, no cache).
-    pub fn compute(&self, map: &HeightMap, pose: &Pose, twist: &Twist, params: &Params) -> Outputs {
-        let c = self.contact(map, pose, twist, params);
+    /// Force and moment on the disc in `state` at `pose` moving with `twist`,
+    /// against `map` (no bookkeeping, no cache).
+    pub fn compute(
+        &self,
+        map: &HeightMap,
+        state: &DiscState,
+        pose: &Pose,
+        twist: &Twist,
+        params: &Params,
+    ) -> Outputs {
+        let c = self.contact(map, state, pose, twist, params);
         let rot = pose.rotation();
         // friction on the slip of the rim over the rock where the contact is
         // lowest (kerf) or at the point of force application (thesis eq. 56)
@@ -137,17 +169,19 @@ impl Disc {
     pub fn evaluate(
         &self,
         map: &HeightMap,
+        state: &DiscState,
         pose: &Pose,
         twist: &Twist,
         params: &Params,
     ) -> Outputs {
-        if let Some((p, t, o)) = self.cache.get() {
-            if p == *pose && t == *twist {
+        let relieved = state.chips.relieved;
+        if let Some((p, t, r, o)) = self.cache.get() {
+            if p == *pose && t == *twist && r == relieved {
                 return o;
             }
         }
-        let o = self.compute(map, pose, twist, params);
-        self.cache.set(Some((*pose, *twist, o)));
+        let o = self.compute(map, state, pose, twist, params);
+        self.cache.set(Some((*pose, *twist, relieved, o)));
         o
     }
 
@@ -256,17 +290,19 @@ fn chip_at(
 /// the same for any number of threads.
 pub fn evaluate_all(
     discs: &mut [Disc],
+    states: &[DiscState],
     map: &HeightMap,
     motions: &[(Pose, Twist)],
     params: &Params,
 ) -> Vec<Outputs> {
     if discs.len() == 1 {
-        return vec![discs[0].evaluate(map, &motions[0].0, &motions[0].1, params)];
+        return vec![discs[0].evaluate(map, &states[0], &motions[0].0, &motions[0].1, params)];
     }
     discs
         .par_iter_mut()
+        .zip(states.par_iter())
         .zip(motions.par_iter())
-        .map(|(d, (p, t))| d.evaluate(map, p, t, params))
+        .map(|((d, s), (p, t))| d.evaluate(map, s, p, t, params))
         .collect()
 }
 
@@ -330,7 +366,7 @@ pub fn commit_paths(
         "the event's paths since the last commit",
         dt,
     )?;
-    let outputs = evaluate_all(discs, &face.map, motions, params);
+    let outputs = evaluate_all(discs, states, &face.map, motions, params);
     for (o, (_, twist)) in outputs.iter().zip(motions) {
         face.cutting_energy += o.work_on_rock(twist, dt);
     }
@@ -455,7 +491,7 @@ pub fn sweep(
     if first {
         discs.iter().for_each(Disc::forget);
     }
-    let o0 = evaluate_all(discs, &face.map, start, params);
+    let o0 = evaluate_all(discs, states, &face.map, start, params);
     if params.chipping.enabled {
         // a path that does not continue the last one starts here: chip
         // boundaries count on from this pose, not from the first sub-step
@@ -475,7 +511,7 @@ pub fn sweep(
     })?;
     // the last time is k / n = 1 for every disc: `end` holds the motions at h
     discs.iter().for_each(Disc::forget);
-    let o1 = evaluate_all(discs, &face.map, &end, params);
+    let o1 = evaluate_all(discs, states, &face.map, &end, params);
     for i in 0..discs.len() {
         face.cutting_energy +=
             0.5 * (o0[i].work_on_rock(&start[i].1, h) + o1[i].work_on_rock(&end[i].1, h));

@@ -153,6 +153,7 @@ pub(crate) mod blob {
             }
             None => v.push(0),
         }
+        v.push(u8::from(c.relieved));
     }
 
     /// Bytes of one tile: index, heights, cut mask, height bound.
@@ -272,6 +273,11 @@ pub(crate) mod blob {
                 }
                 _ => return Err(bad("bad chip flag")),
             };
+            let relieved = match self.u8()? {
+                0 => false,
+                1 => true,
+                _ => return Err(bad("bad relief flag")),
+            };
             if !cf
                 .iter()
                 .chain(last_low.iter().flatten())
@@ -289,6 +295,7 @@ pub(crate) mod blob {
                     last_low,
                     count,
                     volume,
+                    relieved,
                 },
             })
         }

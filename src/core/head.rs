@@ -129,8 +129,9 @@ pub struct HeadState {
 }
 
 const MAGIC: &[u8; 8] = b"KERFHEAD";
-/// 2: tiles carry the height bound the map keeps.
-const VERSION: u32 = 2;
+/// 2: tiles carry the height bound the map keeps; 3: every disc's state
+/// carries whether its pass is relieved.
+const VERSION: u32 = 3;
 
 impl HeadState {
     pub fn face(&self) -> &Face {
@@ -376,8 +377,13 @@ impl Head {
         axis: Vector3<f64>,
     ) -> Result<HeadOutputs> {
         self.check_motions(motions)?;
-        let discs =
-            super::disc::evaluate_all(&mut self.discs, &self.state.face.map, motions, &self.params);
+        let discs = super::disc::evaluate_all(
+            &mut self.discs,
+            &self.state.discs,
+            &self.state.face.map,
+            motions,
+            &self.params,
+        );
         Ok(self.totals(discs, motions, origin, axis))
     }
 

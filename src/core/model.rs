@@ -57,8 +57,9 @@ pub struct ModelState {
 }
 
 const MAGIC: &[u8; 8] = b"KERFCORE";
-/// 4: tiles carry their cut masks; 5: and the height bound the map keeps.
-const VERSION: u32 = 5;
+/// 4: tiles carry their cut masks; 5: and the height bound the map keeps;
+/// 6: the disc's state carries whether its pass is relieved.
+const VERSION: u32 = 6;
 
 impl ModelState {
     /// Versioned little-endian binary form: magic, version, grid, bookkeeping,
@@ -107,6 +108,11 @@ impl ModelState {
 
     pub fn map(&self) -> &HeightMap {
         &self.face.map
+    }
+
+    /// The disc's own state (its last cut, its chips).
+    pub fn disc(&self) -> &DiscState {
+        &self.disc
     }
 }
 
@@ -298,8 +304,10 @@ impl Model {
         &self.params
     }
 
+    /// The law the disc cuts with now: with chipping on, its pressure is
+    /// scaled while the pass is relieved (`ChipState::relieved`).
     pub fn law(&self) -> &CsmLaw {
-        self.disc.law()
+        self.disc.law_in(&self.state.disc)
     }
 
     /// The committed rock.
@@ -325,8 +333,13 @@ impl Model {
     /// The contact geometry and cutting force (no friction) at `pose`, for a
     /// disc moving with `twist`.
     pub fn contact(&self, pose: &Pose, twist: &Twist) -> Contact {
-        self.disc
-            .contact(&self.state.face.map, pose, twist, &self.params)
+        self.disc.contact(
+            &self.state.face.map,
+            &self.state.disc,
+            pose,
+            twist,
+            &self.params,
+        )
     }
 
     /// The contact law at `pose` by brute force (`contact_bruteforce`): the
@@ -341,7 +354,7 @@ impl Model {
         super::contact_bruteforce::contact_brute(
             &self.state.face.map,
             &self.disc(pose),
-            self.disc.law(),
+            self.disc.law_in(&self.state.disc),
             n,
             n.elastic_depth,
             twist,
@@ -353,9 +366,13 @@ impl Model {
     pub fn evaluate(&self, pose: &Pose, twist: &Twist) -> Result<Outputs> {
         pose.validate()?;
         twist.validate()?;
-        let o = self
-            .disc
-            .evaluate(&self.state.face.map, pose, twist, &self.params);
+        let o = self.disc.evaluate(
+            &self.state.face.map,
+            &self.state.disc,
+            pose,
+            twist,
+            &self.params,
+        );
         Ok(self.with_bookkeeping(o))
     }
 

@@ -119,7 +119,7 @@ fn only_a_relieved_pass_takes_the_pressure_scale() {
     // far apart (S = 100 mm > T + kappa p): neither pass is relieved
     let (m_on, on, _) = two_passes(0.1, true, 1, 1.0, 0.002);
     let (_, off, _) = two_passes(0.1, false, 1, 1.0, 0.002);
-    assert!(!m_on.state().disc().chips().relieved);
+    assert!(!m_on.state().disc().chips().relieved());
     assert_eq!(*m_on.law(), plain);
     assert_eq!(on.len(), off.len());
     for (a, b) in on.iter().zip(&off) {
@@ -128,7 +128,7 @@ fn only_a_relieved_pass_takes_the_pressure_scale() {
     }
     // beside a groove at 51 mm: relieved, and the law is the scaled one
     let (m, rel, _) = two_passes(0.051, true, 1, 1.0, 0.002);
-    assert!(m.state().disc().chips().relieved);
+    assert!(m.state().disc().chips().relieved());
     assert_eq!(m.law().pressure_scale(), p.chipping.pressure_scale);
     assert!(rel.last().unwrap().chip_count > 0);
 }

@@ -58,11 +58,11 @@ pub struct ChipParams {
     /// carries only 0.64 of the closed form's mean. The default,
     /// [`PRESSURE_SCALE_DEFAULT`], brings the mean back. It scales the
     /// pressure (the law's `P'`), not the force: the saw-tooth still comes
-    /// from the rock's shape. It applies only while the disc's pass is
-    /// relieved ([`ChipState::relieved`]): a pass with no free surface in a
-    /// crack's reach breaks out no chips, its rock is the rock without chips,
-    /// and it keeps the closed form's pressure. Without chips it does nothing
-    /// (see [`ChipParams::pressure_scale_in_use`]).
+    /// from the rock's shape. It applies only while the disc's pass breaks
+    /// out chips ([`ChipState::relieved`]): a pass that breaks out none has
+    /// the rock without chips, and it keeps the closed form's pressure.
+    /// Without chips it does nothing (see
+    /// [`ChipParams::pressure_scale_in_use`]).
     pub pressure_scale: f64,
 }
 
@@ -121,7 +121,7 @@ fn unit_hash(seed: u64, k: u64) -> f64 {
 
 /// What the chip process carries from one cut to the next (part of the
 /// discrete state).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ChipState {
     /// Travel of the crushed zone (the disc's lowest point, in plan) while
     /// cutting \[m\].
@@ -138,16 +138,49 @@ pub struct ChipState {
     pub count: u64,
     /// Rock removed as chips \[m3\].
     pub volume: f64,
-    /// Whether the pass is relieved: at the last chip boundary the disc
-    /// crossed while cutting, a crack reached a free surface (a neighbouring
-    /// groove, a chip's crater, the edge of the rock) on either side. The
-    /// force law then takes `chipping.pressureScale`; before the pass's
-    /// first boundary, and on a pass whose cracks reach nothing, it keeps
-    /// the closed form's pressure. A jump to a new pass clears it.
-    pub relieved: bool,
+    /// Chip boundaries the disc has crossed while cutting since the last one
+    /// at which a chip broke out on this pass ([`NO_CHIP_YET`] before the
+    /// pass's first chip; a jump to a new pass starts over). See
+    /// [`ChipState::relieved`].
+    pub quiet: u32,
+}
+
+/// [`ChipState::quiet`] of a pass that has broken out no chip yet.
+pub const NO_CHIP_YET: u32 = u32::MAX;
+
+/// Chip boundaries without a chip after which a pass counts as unrelieved
+/// again ([`ChipState::relieved`]): 4 chip lengths, 0.2 m at the defaults.
+pub const RELIEF_MEMORY: u32 = 4;
+
+impl Default for ChipState {
+    fn default() -> Self {
+        Self {
+            travel: 0.0,
+            index: 0,
+            next: 0.0,
+            last_low: None,
+            count: 0,
+            volume: 0.0,
+            quiet: NO_CHIP_YET,
+        }
+    }
 }
 
 impl ChipState {
+    /// Whether the pass is relieved, for `chipping.pressureScale`: a chip
+    /// broke out at one of its last [`RELIEF_MEMORY`] chip boundaries. The
+    /// factor makes up for the rock kerf's chips take from ahead of the
+    /// disc, which the CSM's constants already hold; a pass that breaks out
+    /// none (the first pass on a fresh face, spacings past the critical
+    /// one) has the rock without chips and keeps the closed form's
+    /// pressure. A steady relieved pass (an LCM series, a cutterhead)
+    /// breaks a chip at most boundaries; at some the ridge ahead has gone
+    /// already, with an earlier chip, and the pass stays relieved across
+    /// them. Before a pass's first chip (a chip length at least) it is not.
+    pub fn relieved(&self) -> bool {
+        self.quiet < RELIEF_MEMORY
+    }
+
     /// The state before the first cut (all zero with chipping off, so a
     /// model without chips does not depend on the chip parameters).
     pub fn new(p: &ChipParams) -> Self {
@@ -208,8 +241,8 @@ impl ChipState {
             let (dx, dy) = (low.x - prev.x, low.y - prev.y);
             let ds = dx.hypot(dy);
             if ds > max_step {
-                // a new pass: relieved once its own first boundary says so
-                self.relieved = false;
+                // a new pass: relieved once it breaks out its own chips
+                self.quiet = NO_CHIP_YET;
             }
             if ds > 0.0 && ds <= max_step {
                 let heading = [dx / ds, dy / ds];
@@ -234,7 +267,11 @@ impl ChipState {
                         let s = break_out(map, &b);
                         stats.count += s.count;
                         stats.volume += s.volume;
-                        self.relieved = s.relieved;
+                        self.quiet = if s.count > 0 {
+                            0
+                        } else {
+                            self.quiet.saturating_add(1)
+                        };
                     }
                     self.index += 1;
                     self.next += length;
@@ -254,9 +291,6 @@ impl ChipState {
 pub struct ChipStats {
     pub count: u64,
     pub volume: f64,
-    /// A crack reached a free surface on some side (the last boundary's,
-    /// for a call that crossed several).
-    pub relieved: bool,
 }
 
 /// One place where chips may break out: both sides of a groove, over a length
@@ -423,7 +457,6 @@ pub fn break_out(map: &mut HeightMap, b: &Breakout) -> ChipStats {
         let Some(r) = relief(map, b, side) else {
             continue;
         };
-        stats.relieved = true;
         let v = lower_to_chip(map, b, side, &r);
         if v > 0.0 {
             stats.count += 1;
@@ -576,6 +609,55 @@ mod tests {
         let before = m.clone();
         assert_eq!(break_out(&mut m, &at(0.0, 9.0)), ChipStats::default());
         assert_eq!(m, before);
+    }
+
+    #[test]
+    fn a_pass_is_relieved_from_its_first_chip_until_chips_stop() {
+        // the neighbouring groove (51 mm away) ends at x = 0.15 m
+        let mut m = grooved(&[(0.0, 0.004, 0.013), (-0.051, 0.004, 0.013)]);
+        let g = *m.grid();
+        for j in 0..g.ny {
+            for i in 0..g.nx {
+                let (x, y) = g.node_xy(i, j);
+                if x >= 0.15 && y < -0.02 {
+                    m.set_node(i, j, 0.0);
+                }
+            }
+        }
+        let p = ChipParams {
+            enabled: true,
+            length_spread: 0.0,
+            ..ChipParams::default()
+        };
+        let mut s = ChipState::new(&p);
+        let mut seen = vec![];
+        for k in 0..=400 {
+            let x = k as f64 * 0.001;
+            s.after_cut(&mut m, &p, Vector3::new(x, 0.0, -0.004), true, 0.0065, 0.01);
+            seen.push((x, s.relieved()));
+        }
+        let at = |x: f64| seen.iter().find(|q| q.0 >= x - 1e-9).unwrap().1;
+        // not before the first chip (its boundary at 50 mm), then relieved
+        assert!(!at(0.049));
+        assert!(at(0.051) && at(0.14));
+        // past the groove's end no chip breaks: four 50 mm boundaries later
+        // (the last chip at 0.1 m, whose rock reached to 0.15 m) unrelieved
+        assert!(at(0.299));
+        assert!(!at(0.301) && !at(0.4));
+        assert!(s.quiet >= RELIEF_MEMORY);
+        // a jump to a new pass starts over
+        let mut t = s;
+        t.quiet = 0;
+        t.after_cut(
+            &mut m,
+            &p,
+            Vector3::new(0.1, 0.0, -0.004),
+            true,
+            0.0065,
+            0.01,
+        );
+        assert_eq!(t.quiet, NO_CHIP_YET);
+        assert!(!ChipState::new(&p).relieved() && !ChipState::default().relieved());
     }
 
     #[test]

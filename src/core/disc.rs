@@ -107,7 +107,7 @@ impl Disc {
     /// The law the disc cuts with in `state`: the relieved pass's, or the
     /// closed form's pressure.
     pub fn law_in(&self, state: &DiscState) -> &CsmLaw {
-        if state.chips.relieved {
+        if state.chips.relieved() {
             &self.relieved
         } else {
             &self.plain
@@ -174,7 +174,7 @@ impl Disc {
         twist: &Twist,
         params: &Params,
     ) -> Outputs {
-        let relieved = state.chips.relieved;
+        let relieved = state.chips.relieved();
         if let Some((p, t, r, o)) = self.cache.get() {
             if p == *pose && t == *twist && r == relieved {
                 return o;

@@ -153,7 +153,7 @@ pub(crate) mod blob {
             }
             None => v.push(0),
         }
-        v.push(u8::from(c.relieved));
+        u64s(v, &[u64::from(c.quiet)]);
     }
 
     /// Bytes of one tile: index, heights, cut mask, height bound.
@@ -273,11 +273,7 @@ pub(crate) mod blob {
                 }
                 _ => return Err(bad("bad chip flag")),
             };
-            let relieved = match self.u8()? {
-                0 => false,
-                1 => true,
-                _ => return Err(bad("bad relief flag")),
-            };
+            let quiet = u32::try_from(self.u64()?).map_err(|_| bad("bad chip boundary count"))?;
             if !cf
                 .iter()
                 .chain(last_low.iter().flatten())
@@ -295,7 +291,7 @@ pub(crate) mod blob {
                     last_low,
                     count,
                     volume,
-                    relieved,
+                    quiet,
                 },
             })
         }

@@ -130,7 +130,7 @@ pub struct HeadState {
 
 const MAGIC: &[u8; 8] = b"KERFHEAD";
 /// 2: tiles carry the height bound the map keeps; 3: every disc's state
-/// carries whether its pass is relieved.
+/// carries the chip boundaries since its pass's last chip.
 const VERSION: u32 = 3;
 
 impl HeadState {

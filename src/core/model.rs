@@ -58,7 +58,8 @@ pub struct ModelState {
 
 const MAGIC: &[u8; 8] = b"KERFCORE";
 /// 4: tiles carry their cut masks; 5: and the height bound the map keeps;
-/// 6: the disc's state carries whether its pass is relieved.
+/// 6: the disc's state carries the chip boundaries since its pass's last
+/// chip (`ChipState::quiet`).
 const VERSION: u32 = 6;
 
 impl ModelState {

@@ -8,11 +8,14 @@
 //! directory is a dense vector of `Option<Tile>` (16 bytes a tile), so a
 //! 10 m x 10 m face at 1 mm cells costs 1.6 MB before anything is cut.
 //!
-//! Tiles are shared copy-on-write (`Arc`): cloning a map (an FMU-state
-//! snapshot) copies the directory and shares every tile;
-//! the first write to a shared tile copies that tile only. A host that saves
-//! the state before every step therefore pays for the tiles the step cuts,
-//! not for the face.
+//! Tiles are shared copy-on-write (`Arc`), and so are the directory's rows
+//! of tiles: cloning a map (an FMU-state snapshot) shares every row, one
+//! reference count per row of tiles (313 for a 10 m face), not per tile
+//! (a bored 9.72 m face has 72 thousand tiles, whose counts cost 3 ms a
+//! get + set of the state). The first write to a shared row copies that
+//! row's directory (16 bytes a tile, sharing its tiles), the first write to
+//! a shared tile that tile. A host that saves the state before every step
+//! therefore pays for the rows and tiles the step cuts, not for the face.
 //!
 //! Cuts walk the map a row at a time ([`HeightMap::lower_row`]): a tile is
 //! looked up and unshared once per run of a row inside it. Cuts far apart
@@ -103,13 +106,46 @@ fn tile_runs(i0: usize, i1: usize) -> impl Iterator<Item = (usize, usize)> {
     })
 }
 
+/// A directory slot that [`lower_run`] reads until its first write and
+/// only then takes for writing (a map's shared row is unshared then, not
+/// by a run that writes nothing).
+trait Slot<'a> {
+    fn read(&self) -> &Option<Tile>;
+    fn write(self) -> &'a mut Option<Tile>;
+}
+
+/// A slot of a patch (its rows are the map's own already).
+impl<'a> Slot<'a> for &'a mut Option<Tile> {
+    fn read(&self) -> &Option<Tile> {
+        self
+    }
+    fn write(self) -> &'a mut Option<Tile> {
+        self
+    }
+}
+
+/// A slot of a map's row of tiles, which may be shared with a snapshot.
+struct RowSlot<'a> {
+    row: &'a mut Arc<Vec<Option<Tile>>>,
+    ti: usize,
+}
+
+impl<'a> Slot<'a> for RowSlot<'a> {
+    fn read(&self) -> &Option<Tile> {
+        &self.row[self.ti]
+    }
+    fn write(self) -> &'a mut Option<Tile> {
+        &mut Arc::make_mut(self.row)[self.ti]
+    }
+}
+
 /// Runs `f(z)` over nodes `k0, k0 + 1, ..` (`n` of them) of the tile in
 /// `slot`, in order; where it returns a height the node is lowered to it and
 /// marked cut. Until the first write the tile is only read (an untouched one
 /// reads `z0`); at the first write it is allocated or unshared once, and
 /// `log(k, z, cut_word, z_max)` hears what each write overwrites.
-fn lower_run(
-    slot: &mut Option<Tile>,
+fn lower_run<'a>(
+    slot: impl Slot<'a>,
     z0: f64,
     k0: usize,
     n: usize,
@@ -123,13 +159,13 @@ fn lower_run(
         if k == end {
             return;
         }
-        let z = slot.as_ref().map_or(z0, |t| t.d.z[k]);
+        let z = slot.read().as_ref().map_or(z0, |t| t.d.z[k]);
         k += 1;
         if let Some(nz) = f(z) {
             break nz;
         }
     };
-    let (tile, allocated) = Tile::for_writing(slot, z0);
+    let (tile, allocated) = Tile::for_writing(slot.write(), z0);
     if allocated {
         on_alloc();
     }
@@ -358,7 +394,9 @@ pub struct HeightMap {
     z0: f64,
     tiles_x: usize,
     tiles_y: usize,
-    tiles: Vec<Option<Tile>>,
+    /// The tile directory, a row of tiles (`tiles_x` of them) per `Arc`:
+    /// tile `t` is `rows[t / tiles_x][t % tiles_x]`.
+    rows: Vec<Arc<Vec<Option<Tile>>>>,
     /// While a change may still be rolled back: what it wrote over. Kept
     /// between changes (empty) so that its buffers are reused.
     undo: Undo,
@@ -401,7 +439,7 @@ impl HeightMap {
             z0,
             tiles_x,
             tiles_y,
-            tiles: vec![None; tiles_x * tiles_y],
+            rows: vec![Arc::new(vec![None; tiles_x]); tiles_y],
             undo: Undo::default(),
         }
     }
@@ -416,42 +454,63 @@ impl HeightMap {
 
     /// Number of tiles allocated (touched) so far.
     pub fn allocated_tiles(&self) -> usize {
-        self.tiles.iter().filter(|t| t.is_some()).count()
+        self.tiles().filter(|t| t.is_some()).count()
+    }
+
+    /// Every slot of the directory, in tile order.
+    fn tiles(&self) -> impl Iterator<Item = &Option<Tile>> {
+        self.rows.iter().flat_map(|r| r.iter())
+    }
+
+    /// Slot of tile `t`.
+    #[inline]
+    fn slot(&self, t: usize) -> &Option<Tile> {
+        &self.rows[t / self.tiles_x][t % self.tiles_x]
+    }
+
+    /// Slot of the tile in tile row `tj`, column `ti`, for writing: the
+    /// row's directory is unshared first (copy on write).
+    #[inline]
+    fn slot_mut(&mut self, tj: usize, ti: usize) -> &mut Option<Tile> {
+        &mut Arc::make_mut(&mut self.rows[tj])[ti]
     }
 
     /// Bytes held by the map (directory plus allocated tiles; a tile shared
     /// with a clone counts in each).
     pub fn memory_bytes(&self) -> usize {
-        self.tiles.len() * std::mem::size_of::<Option<Tile>>()
+        self.tile_count() * std::mem::size_of::<Option<Tile>>()
             + self.allocated_tiles() * std::mem::size_of::<TileData>()
     }
 
+    /// Tile row, tile column and node index in the tile of node `(i, j)`.
     #[inline]
-    fn tile_index(&self, i: usize, j: usize) -> (usize, usize) {
-        (
-            (j / TILE) * self.tiles_x + i / TILE,
-            (j % TILE) * TILE + i % TILE,
-        )
+    fn tile_index(&self, i: usize, j: usize) -> (usize, usize, usize) {
+        (j / TILE, i / TILE, (j % TILE) * TILE + i % TILE)
     }
 
     /// Height of node `(i, j)` (0-based, must be inside the grid).
     #[inline]
     pub fn node(&self, i: usize, j: usize) -> f64 {
-        let (t, k) = self.tile_index(i, j);
-        match &self.tiles[t] {
+        let (tj, ti, k) = self.tile_index(i, j);
+        match &self.rows[tj][ti] {
             Some(tile) => tile.d.z[k],
             None => self.z0,
         }
     }
 
-    /// Node `k` of tile `t` for writing: the tile allocated on first write,
-    /// and the node's old value logged when an undo record is open.
-    fn tile_mut(&mut self, t: usize, k: usize) -> &mut Tile {
-        let (tile, allocated) = Tile::for_writing(&mut self.tiles[t], self.z0);
-        if allocated && self.undo.open {
+    /// Node `k` of the tile in tile row `tj`, column `ti` for writing: the
+    /// tile allocated on first write, and the node's old value logged when
+    /// an undo record is open.
+    fn tile_mut(&mut self, tj: usize, ti: usize, k: usize) -> &mut Tile {
+        let t = tj * self.tiles_x + ti;
+        let z0 = self.z0;
+        let open = self.undo.open;
+        let slot = &mut Arc::make_mut(&mut self.rows[tj])[ti];
+        let (tile, allocated) = Tile::for_writing(slot, z0);
+        if allocated && open {
             self.undo.allocated.push(t);
         }
-        if self.undo.open {
+        if open {
             self.undo.writes.push(Overwritten {
                 tile: t,
                 node: k,
@@ -466,14 +525,14 @@ impl HeightMap {
     /// Sets node `(i, j)`, allocating its tile on first write (a surface
     /// being loaded: the node does not count as cut).
     pub fn set_node(&mut self, i: usize, j: usize, z: f64) {
-        let (t, k) = self.tile_index(i, j);
-        self.tile_mut(t, k).set(k, z);
+        let (tj, ti, k) = self.tile_index(i, j);
+        self.tile_mut(tj, ti, k).set(k, z);
     }
 
     /// Lowers node `(i, j)` to `z` by a cut or a chip, and marks it cut.
     pub fn lower_node(&mut self, i: usize, j: usize, z: f64) {
-        let (t, k) = self.tile_index(i, j);
-        self.tile_mut(t, k).lower(k, z);
+        let (tj, ti, k) = self.tile_index(i, j);
+        self.tile_mut(tj, ti, k).lower(k, z);
     }
 
     /// Runs `f(z)` over the heights of nodes `i0..=i1` of row `j`, in order,
@@ -488,12 +547,16 @@ impl HeightMap {
         mut f: impl FnMut(f64) -> Option<f64>,
     ) {
         for (i, n) in tile_runs(i0, i1) {
-            let (t, k) = self.tile_index(i, j);
+            let (tj, ti, k) = self.tile_index(i, j);
+            let t = tj * self.tiles_x + ti;
             let undo = &mut self.undo;
             let open = undo.open;
             let mut allocated = false;
             lower_run(
-                &mut self.tiles[t],
+                RowSlot {
+                    row: &mut self.rows[tj],
+                    ti,
+                },
                 self.z0,
                 k,
                 n,
@@ -531,29 +594,40 @@ impl HeightMap {
     pub fn patches(&mut self, rects: &[TileRect]) -> Option<Vec<Patch<'_>>> {
         assert!(!self.undo.open, "patches cannot log undo");
         // every rectangle is one run of tiles per tile row; the runs of all
-        // rectangles, in directory order, are peeled off the directory
-        let tx = self.tiles_x;
-        let mut runs: Vec<(usize, usize, usize)> = rects
+        // rectangles, in directory order, are peeled off the rows they lie
+        // in (each such row unshared first)
+        let mut runs: Vec<(usize, usize, usize, usize)> = rects
             .iter()
             .enumerate()
             .flat_map(|(r, rc)| {
-                (rc.tj[0]..=rc.tj[1])
-                    .map(move |tj| (tj * tx + rc.ti[0], rc.ti[1] - rc.ti[0] + 1, r))
+                (rc.tj[0]..=rc.tj[1]).map(move |tj| (tj, rc.ti[0], rc.ti[1] - rc.ti[0] + 1, r))
             })
             .collect();
         runs.sort_unstable();
+        if runs
+            .iter()
+            .any(|&(tj, ti, len, _)| tj >= self.tiles_y || ti + len > self.tiles_x)
+        {
+            return None;
+        }
         let mut rows: Vec<Vec<&mut [Option<Tile>]>> = rects.iter().map(|_| Vec::new()).collect();
-        let mut rest: &mut [Option<Tile>] = &mut self.tiles;
-        let mut at = 0;
-        for (start, len, r) in runs {
-            if start < at {
-                return None;
+        let mut runs = runs.into_iter().peekable();
+        for (tj, row) in self.rows.iter_mut().enumerate() {
+            if runs.peek().is_none_or(|r| r.0 != tj) {
+                continue;
             }
-            let (_, tail) = std::mem::take(&mut rest).split_at_mut(start - at);
-            let (run, tail) = tail.split_at_mut(len);
-            rows[r].push(run);
-            rest = tail;
-            at = start + len;
+            let mut rest: &mut [Option<Tile>] = Arc::make_mut(row).as_mut_slice();
+            let mut at = 0;
+            while let Some((_, start, len, r)) = runs.next_if(|r| r.0 == tj) {
+                if start < at {
+                    return None;
+                }
+                let (_, tail) = std::mem::take(&mut rest).split_at_mut(start - at);
+                let (run, tail) = tail.split_at_mut(len);
+                rows[r].push(run);
+                rest = tail;
+                at = start + len;
+            }
         }
         let (grid, z0) = (self.grid, self.z0);
         Some(
@@ -573,8 +647,8 @@ impl HeightMap {
     /// Has a cut or a chip lowered node `(i, j)`?
     #[inline]
     pub fn is_cut(&self, i: usize, j: usize) -> bool {
-        let (t, k) = self.tile_index(i, j);
-        match &self.tiles[t] {
+        let (tj, ti, k) = self.tile_index(i, j);
+        match &self.rows[tj][ti] {
             Some(tile) => tile.d.cut[k / 64] >> (k % 64) & 1 == 1,
             None => false,
         }
@@ -584,8 +658,9 @@ impl HeightMap {
     pub fn max_height(&self, i0: usize, i1: usize, j0: usize, j1: usize) -> f64 {
         let mut m = NO_ROCK;
         for tj in j0 / TILE..=j1 / TILE {
+            let row = &self.rows[tj];
             for ti in i0 / TILE..=i1 / TILE {
-                let h = match &self.tiles[tj * self.tiles_x + ti] {
+                let h = match &row[ti] {
                     Some(tile) => tile.z_max,
                     None => self.z0,
                 };
@@ -701,8 +776,7 @@ impl HeightMap {
     /// inside a tile; nodes past the grid edge hold `z0`) and their cut masks
     /// (bit `k % 64` of word `k / 64` for node `k`).
     pub fn touched_tiles(&self) -> impl Iterator<Item = (usize, &[f64], &[u64])> {
-        self.tiles
-            .iter()
+        self.tiles()
             .enumerate()
             .filter_map(|(k, t)| t.as_ref().map(|t| (k, &t.d.z[..], &t.d.cut[..])))
     }
@@ -711,7 +785,7 @@ impl HeightMap {
     pub const MASK_WORDS: usize = MASK_WORDS;
 
     pub fn tile_count(&self) -> usize {
-        self.tiles.len()
+        self.tiles_x * self.tiles_y
     }
 
     /// Starts recording what the writes change, for [`HeightMap::rollback`].
@@ -733,8 +807,9 @@ impl HeightMap {
     pub fn rollback(&mut self) {
         if self.undo.open {
             let u = std::mem::take(&mut self.undo);
+            let tx = self.tiles_x;
             for w in u.writes.iter().rev() {
-                if let Some(tile) = &mut self.tiles[w.tile] {
+                if let Some(tile) = self.slot_mut(w.tile / tx, w.tile % tx) {
                     let d = Arc::make_mut(&mut tile.d);
                     d.z[w.node] = w.z;
                     d.cut[w.node / 64] = w.cut_word;
@@ -742,7 +817,7 @@ impl HeightMap {
                 }
             }
             for &t in &u.allocated {
-                self.tiles[t] = None;
+                *self.slot_mut(t / tx, t % tx) = None;
             }
         }
     }
@@ -752,14 +827,14 @@ impl HeightMap {
     /// upper bound after cuts. A state carries it, so that a map read back
     /// scans and walks exactly as the one it was written from.
     pub fn tile_bound(&self, k: usize) -> f64 {
-        self.tiles[k].as_ref().map_or(self.z0, |t| t.z_max)
+        self.slot(k).as_ref().map_or(self.z0, |t| t.z_max)
     }
 
     /// Restores a tile written by [`HeightMap::touched_tiles`], with its
     /// height bound ([`tile_bound`](Self::tile_bound); never below the
     /// tile's highest node, whatever the caller passes).
     pub fn load_tile(&mut self, k: usize, z: &[f64], cut: &[u64], bound: f64) -> Option<()> {
-        if k >= self.tiles.len() || z.len() != TILE_NODES || cut.len() != MASK_WORDS {
+        if k >= self.tile_count() || z.len() != TILE_NODES || cut.len() != MASK_WORDS {
             return None;
         }
         let mut d = Arc::new(TileData {
@@ -770,7 +845,7 @@ impl HeightMap {
         dm.z.copy_from_slice(z);
         dm.cut.copy_from_slice(cut);
         let z_max = d.z.iter().copied().fold(bound, f64::max);
-        self.tiles[k] = Some(Tile { d, z_max });
+        *self.slot_mut(k / self.tiles_x, k % self.tiles_x) = Some(Tile { d, z_max });
         Some(())
     }
 }
@@ -903,9 +978,8 @@ mod tests {
         a.set_node(10, 20, 0.125); // same tile (the map is smaller than one tile)
         let b = a.clone();
         let shared = |m: &HeightMap, n: &HeightMap| {
-            m.tiles
-                .iter()
-                .zip(&n.tiles)
+            m.tiles()
+                .zip(n.tiles())
                 .filter(|(x, y)| matches!((x, y), (Some(x), Some(y)) if Arc::ptr_eq(&x.d, &y.d)))
                 .count()
         };
@@ -921,6 +995,51 @@ mod tests {
         assert_eq!(shared(&a, &c), 0);
         assert_ne!(a, c);
         assert_eq!(a, b);
+        // the directory's rows are shared too, until a write unshares one
+        let rows_shared = |m: &HeightMap, n: &HeightMap| {
+            m.rows
+                .iter()
+                .zip(&n.rows)
+                .filter(|(x, y)| Arc::ptr_eq(x, y))
+                .count()
+        };
+        assert_eq!(rows_shared(&a, &b), a.rows.len());
+        assert_eq!(rows_shared(&a, &c), a.rows.len() - 1);
+    }
+
+    #[test]
+    fn a_clone_shares_the_rows_of_tiles_until_a_write_and_a_read_only_walk_keeps_them() {
+        // 4 x 3 tiles; rows of tiles 0 and 2 written
+        let g = Grid::new(0.0, 0.127, 0.0, 0.095, 128, 96);
+        let mut m = HeightMap::flat(g, 0.0);
+        m.set_node(5, 5, -0.001);
+        m.set_node(100, 70, -0.002);
+        let snap = m.clone();
+        let same = |a: &HeightMap, b: &HeightMap, r: usize| Arc::ptr_eq(&a.rows[r], &b.rows[r]);
+        // a walk that lowers nothing leaves every row shared
+        m.lower_row(5, 0, 127, |_| None);
+        assert!((0..3).all(|r| same(&m, &snap, r)));
+        // a write unshares its row only; the other rows stay shared
+        m.lower_row(70, 90, 110, |z| (z > -0.0015).then_some(-0.0015));
+        assert!(same(&m, &snap, 0) && same(&m, &snap, 1) && !same(&m, &snap, 2));
+        assert_eq!(m.node(100, 70), -0.002);
+        assert_eq!(m.node(95, 70), -0.0015);
+        assert_eq!(snap.node(95, 70), 0.0);
+        // patches unshare the rows they cover and write through them
+        let mut p = m.clone();
+        let rect = p.tile_rect(0, 40, 0, 40); // tiles 0..=1 x 0..=1
+        let mut patches = p.patches(&[rect]).unwrap();
+        patches[0].lower_row(33, 0, 40, |z| Some(z - 0.001));
+        drop(patches);
+        assert!(!same(&p, &m, 0) && !same(&p, &m, 1) && same(&p, &m, 2));
+        assert_eq!(p.node(40, 33), -0.001);
+        assert_eq!(m.node(40, 33), 0.0);
+        // out of range rectangles are refused
+        let bad = TileRect {
+            ti: [3, 4],
+            tj: [0, 0],
+        };
+        assert!(p.patches(&[bad]).is_none());
     }
 
     #[test]

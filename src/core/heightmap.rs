@@ -439,6 +439,8 @@ impl HeightMap {
             z0,
             tiles_x,
             tiles_y,
+            // every row the same empty one: a write unshares its row
+            #[allow(clippy::rc_clone_in_vec_init)]
             rows: vec![Arc::new(vec![None; tiles_x]); tiles_y],
             undo: Undo::default(),
         }

@@ -76,33 +76,34 @@ pub enum StepError {
     Failed(String),
 }
 
-/// A captured FMU state: the instance's part and the model's.
-pub struct Snapshot<S> {
+/// The instance's part of a captured FMU state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Header {
     pub kind: Kind,
     pub mode: Mode,
     pub start_time: f64,
     pub time: f64,
     pub last_commit_time: f64,
     pub event_committed: bool,
-    pub model: S,
-    /// The serialized form, made on demand (fmi2SerializedFMUstateSize).
-    pub encoded: OnceCell<Vec<u8>>,
 }
 
-impl Snapshot<()> {
-    /// This instance part with the model's part.
+impl Header {
+    /// The whole state: this instance part with the model's part.
     pub fn with<S>(self, model: S) -> Snapshot<S> {
         Snapshot {
-            kind: self.kind,
-            mode: self.mode,
-            start_time: self.start_time,
-            time: self.time,
-            last_commit_time: self.last_commit_time,
-            event_committed: self.event_committed,
+            header: self,
             model,
             encoded: OnceCell::new(),
         }
     }
+}
+
+/// A captured FMU state: the instance's part and the model's.
+pub struct Snapshot<S> {
+    pub header: Header,
+    pub model: S,
+    /// The serialized form, made on demand (fmi2SerializedFMUstateSize).
+    pub encoded: OnceCell<Vec<u8>>,
 }
 
 /// What a kerf model answers to the generic instance. Error strings are
@@ -715,35 +716,35 @@ impl<M: FmuModel> Fmi<M> {
 
     pub fn snapshot(&self) -> Snapshot<M::State> {
         let core = !matches!(self.mode, Instantiated | InitializationMode);
-        Snapshot {
+        Header {
             kind: self.kind,
             mode: self.mode,
             start_time: self.start_time,
             time: self.time,
             last_commit_time: self.last_commit_time,
             event_committed: self.event_committed,
-            model: self.model.state(core),
-            encoded: OnceCell::new(),
         }
+        .with(self.model.state(core))
     }
 
     /// Replaces the whole state by `s`; on error nothing changed.
     pub fn restore(&mut self, s: &Snapshot<M::State>) -> Res<Status> {
-        if s.kind != self.kind {
+        let h = &s.header;
+        if h.kind != self.kind {
             return Err(format!(
                 "fmi2SetFMUstate: the state was taken from a {} instance, this one is {}",
-                kind_name(s.kind),
+                kind_name(h.kind),
                 kind_name(self.kind)
             ));
         }
         self.model
             .restore(&s.model)
             .map_err(|e| format!("fmi2SetFMUstate: {e}"))?;
-        self.mode = s.mode;
-        self.start_time = s.start_time;
-        self.time = s.time;
-        self.last_commit_time = s.last_commit_time;
-        self.event_committed = s.event_committed;
+        self.mode = h.mode;
+        self.start_time = h.start_time;
+        self.time = h.time;
+        self.last_commit_time = h.last_commit_time;
+        self.event_committed = h.event_committed;
         Ok(Status::Ok)
     }
 

@@ -554,7 +554,7 @@ impl FmuModel for HeadModel {
         let put_u = |p: &mut Vec<u8>, x: u64| p.extend_from_slice(&x.to_le_bytes());
         put_u(&mut p, self.guid.len() as u64);
         p.extend_from_slice(self.guid.as_bytes());
-        put_header(&mut p, s);
+        put_header(&mut p, &s.header);
         let v = &s.model.values;
         put_u(&mut p, v.kerf.real.len() as u64);
         v.kerf.real.iter().for_each(|&x| put_f(&mut p, x));

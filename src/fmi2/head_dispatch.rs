@@ -154,7 +154,7 @@ where
     fn decode(&self, bytes: &[u8]) -> Res<AnySnapshot> {
         let s = Self::decode(self, bytes)?;
         Ok(AnySnapshot {
-            kind: s.kind,
+            kind: s.header.kind,
             snap: Box::new(s),
         })
     }

@@ -42,7 +42,7 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
 pub fn encode(s: &Snapshot) -> Vec<u8> {
     let mut p = Vec::new();
     put_bytes(&mut p, md::GUID.as_bytes());
-    put_header(&mut p, s);
+    put_header(&mut p, &s.header);
     p.push(u8::from(s.model.pose_inputs_set));
     for v in pose_words(&s.model.cs_pose) {
         p.extend_from_slice(&v.to_le_bytes());
@@ -98,7 +98,7 @@ pub fn pose_words(q: &Pose) -> [f64; 6] {
 
 /// The instance's part of a state (after the GUID): interface type, mode,
 /// start time, time, last commit time, event committed.
-pub fn put_header<S>(p: &mut Vec<u8>, s: &generic::Snapshot<S>) {
+pub fn put_header(p: &mut Vec<u8>, s: &generic::Header) {
     p.push(match s.kind {
         Kind::ModelExchange => 0,
         Kind::CoSimulation => 1,
@@ -111,7 +111,7 @@ pub fn put_header<S>(p: &mut Vec<u8>, s: &generic::Snapshot<S>) {
 }
 
 /// Inverse of [`put_header`].
-pub fn read_header(r: &mut Reader) -> Res<generic::Snapshot<()>> {
+pub fn read_header(r: &mut Reader) -> Res<generic::Header> {
     let kind = match r.u8()? {
         0 => Kind::ModelExchange,
         1 => Kind::CoSimulation,
@@ -120,15 +120,13 @@ pub fn read_header(r: &mut Reader) -> Res<generic::Snapshot<()>> {
     let mode = Mode::from_u8(r.u8()?)
         .filter(|m| m.fits(kind))
         .ok_or("invalid mode")?;
-    Ok(generic::Snapshot {
+    Ok(generic::Header {
         kind,
         mode,
         start_time: r.f64()?,
         time: r.f64()?,
         last_commit_time: r.f64()?,
         event_committed: r.flag("eventCommitted")?,
-        model: (),
-        encoded: std::cell::OnceCell::new(),
     })
 }
 

@@ -497,6 +497,43 @@ fn steady_boring_face_discs_carry_the_csm_force_of_their_depth_per_revolution() 
     assert!(sum[2] < 0.8 * sum[1] && sum[3] < 0.8 * sum[1], "{sum:?}");
 }
 
+/// Every pose a step would cut at is checked before it cuts: a step whose
+/// path leaves the poses' bounds on the way (here one disc of the disc
+/// drive runs past x = 1e6 m within the step, the others cut the face) is
+/// refused whole, in the Co-Simulation step and the Model Exchange commit,
+/// and a shorter one runs. Before, the first cuts and the start-of-run
+/// imprint stood, and the head FMU went to its error state.
+#[test]
+fn a_step_whose_path_leaves_the_bounds_is_refused_whole() {
+    let mut head = small_head();
+    let start = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    let w = 3.0 * std::f64::consts::TAU / 60.0;
+    let twist = Twist::new([0.0, 0.0, -1e-3], [0.0, 0.0, w]);
+    let mut motions = head.place(&start, &twist);
+    // the last disc far away, 0.5 m short of the bound, running towards it
+    let far = motions.len() - 1;
+    motions[far].0.position.x = 1.0e6 - 0.5;
+    motions[far].1 = Twist::new([1.0, 0.0, 0.0], [0.0, 1.0 / 0.2159, 0.0]);
+    let before = head.state().to_bytes();
+    // nothing cut yet: the start imprint is the first change a step makes
+    let e = head.advance_discs(&motions, 1.0).unwrap_err().to_string();
+    assert!(e.contains("x") && e.contains("1000000"), "{e}");
+    assert_eq!(head.state().to_bytes(), before);
+    assert!(head.discs().len() == 4 && head.face().excavated_volume() == 0.0);
+    // a step that stays inside runs, and cuts
+    head.advance_discs(&motions, 0.25).unwrap();
+    assert!(head.face().excavated_volume() > 0.0);
+    // Model Exchange: an event whose path runs past the bound
+    let before = head.state().to_bytes();
+    let mut later = motions.clone();
+    for (p, t) in later.iter_mut() {
+        p.position += t.velocity * 0.25;
+    }
+    later[far].0.position.x = 1.0e6 + 0.2;
+    assert!(head.commit(&later, 0.45).is_err());
+    assert_eq!(head.state().to_bytes(), before);
+}
+
 /// A host that steps a head by hours is refused before anything changes,
 /// with the split that fits, in both drives and in a Model Exchange commit;
 /// the step the message names then runs.

@@ -318,6 +318,8 @@ type Path = (Pose, UnitQuaternion<f64>, UnitQuaternion<f64>);
 /// moves the disc to start a new pass) is not a path: only the new pose is
 /// cut. All discs advance sub-step by sub-step, cutting in their order.
 /// Returns whether the face changed. The motions must have been validated.
+/// All or nothing: every pose it will cut at is checked first, and a call
+/// that returns an error has changed nothing.
 pub fn commit_paths(
     face: &mut Face,
     discs: &mut [Disc],
@@ -366,11 +368,7 @@ pub fn commit_paths(
         "the event's paths since the last commit",
         dt,
     )?;
-    let outputs = evaluate_all(discs, states, &face.map, motions, params);
-    for (o, (_, twist)) in outputs.iter().zip(motions) {
-        face.cutting_energy += o.work_on_rock(twist, dt);
-    }
-    let (changed, _) = cut_in_time_order(face, discs, states, params, &counts, |k, n| {
+    let at = |k: usize, n: usize| -> Result<Vec<(Pose, Twist)>> {
         let t = k as f64 / n as f64;
         Ok(plans
             .iter()
@@ -384,7 +382,15 @@ pub fn commit_paths(
                 _ => (pose, twist),
             })
             .collect())
-    })?;
+    };
+    let groups = time_groups(&counts);
+    check_poses(&groups, at)?;
+    // nothing fails from here on: the commit is all or nothing
+    let outputs = evaluate_all(discs, states, &face.map, motions, params);
+    for (o, (_, twist)) in outputs.iter().zip(motions) {
+        face.cutting_energy += o.work_on_rock(twist, dt);
+    }
+    let (changed, _) = cut_in_time_order(face, discs, states, params, &groups, at)?;
     for (s, (pose, _)) in states.iter_mut().zip(motions) {
         s.last_cut = Some(*pose);
     }
@@ -411,47 +417,69 @@ fn check_sub_steps(counts: &[usize], params: &Params, what: &str, span: f64) -> 
     }
 }
 
-/// Cuts disc `i` at its `counts[i]` times `k / counts[i]` (`k = 1..=`
-/// `counts[i]`) of a step, in time order (exact: `k1 / n1 < k2 / n2 <=> k1
-/// n2 < k2 n1`), discs in layout order at equal times: a fixed order. `at(k,
-/// n)` gives every disc's pose and twist at time `k / n` of the step; the
-/// poses of the discs that cut then are validated. Returns whether the face
-/// changed, and the motions at the step's end (`k / n = 1`, every disc's
-/// last cut).
-fn cut_in_time_order(
-    face: &mut Face,
-    discs: &[Disc],
-    states: &mut [DiscState],
-    params: &Params,
-    counts: &[usize],
-    mut at: impl FnMut(usize, usize) -> Result<Vec<(Pose, Twist)>>,
-) -> Result<(bool, Vec<(Pose, Twist)>)> {
+/// The times of a step at which discs cut, in order: disc `i` cuts at its
+/// `counts[i]` times `k / counts[i]` (`k = 1..=counts[i]`); each entry is
+/// `(k, n, discs)`, the discs that cut at time `k / n` in layout order
+/// (exact: `k1 / n1 < k2 / n2 <=> k1 n2 < k2 n1`). A fixed order.
+fn time_groups(counts: &[usize]) -> Vec<(usize, usize, Vec<usize>)> {
     let mut cuts: Vec<(usize, usize, usize)> = counts
         .iter()
         .enumerate()
         .flat_map(|(i, &n)| (1..=n).map(move |k| (k, n, i)))
         .collect();
     cuts.sort_by(|a, b| (a.0 * b.1).cmp(&(b.0 * a.1)).then(a.2.cmp(&b.2)));
-    let mut end = Vec::new();
-    let mut changed = false;
+    let mut groups = Vec::new();
     let mut rest = &cuts[..];
     while let Some(&(k, n, _)) = rest.first() {
-        // the discs that cut at time k / n, in layout order
         let same = rest.partition_point(|c| c.0 * n == k * c.1);
-        let group: Vec<usize> = rest[..same].iter().map(|c| c.2).collect();
+        groups.push((k, n, rest[..same].iter().map(|c| c.2).collect()));
         rest = &rest[same..];
-        end = at(k, n)?;
-        for &i in &group {
-            end[i].0.validate()?;
+    }
+    groups
+}
+
+/// Validates every pose a step will cut at (`at(k, n)`: every disc's pose
+/// and twist at time `k / n`), before anything changes: a step whose path
+/// leaves the poses' bounds on the way is refused whole, not cut halfway.
+fn check_poses(
+    groups: &[(usize, usize, Vec<usize>)],
+    mut at: impl FnMut(usize, usize) -> Result<Vec<(Pose, Twist)>>,
+) -> Result<()> {
+    for (k, n, group) in groups {
+        let m = at(*k, *n)?;
+        for &i in group {
+            m[i].0.validate()?;
         }
+    }
+    Ok(())
+}
+
+/// Cuts the discs at the times of `groups` ([`time_groups`]), in that
+/// order, discs in layout order at equal times. `at(k, n)` gives every
+/// disc's pose and twist at time `k / n` of the step, already validated
+/// ([`check_poses`]). Returns whether the face changed, and the motions at
+/// the step's end (`k / n = 1`, every disc's last cut).
+fn cut_in_time_order(
+    face: &mut Face,
+    discs: &[Disc],
+    states: &mut [DiscState],
+    params: &Params,
+    groups: &[(usize, usize, Vec<usize>)],
+    mut at: impl FnMut(usize, usize) -> Result<Vec<(Pose, Twist)>>,
+) -> Result<(bool, Vec<(Pose, Twist)>)> {
+    let mut end = Vec::new();
+    let mut changed = false;
+    for (k, n, group) in groups {
+        let group = group.as_slice();
+        end = at(*k, *n)?;
         if params.chipping.enabled || group.len() == 1 {
             // a chip reaches past its disc's window: one disc at a time
-            for &i in &group {
+            for &i in group {
                 let (pose, twist) = &end[i];
                 changed |= discs[i].cut_at(face, &mut states[i], pose, twist, params);
             }
         } else {
-            changed |= cut_together(face, discs, &group, &end, params);
+            changed |= cut_together(face, discs, group, &end, params);
         }
     }
     Ok((changed, end))
@@ -465,7 +493,7 @@ fn cut_in_time_order(
 /// the gauge's way and takes fewer cuts); the cuts are committed in time
 /// order, discs in layout order at equal times, a fixed order. The cutting
 /// energy takes the trapezoidal rule over the step for each disc. Returns
-/// the motions at `t = h`.
+/// the motions at `t = h`. All or nothing, as [`commit_paths`].
 #[allow(clippy::too_many_arguments)]
 pub fn sweep(
     face: &mut Face,
@@ -478,6 +506,10 @@ pub fn sweep(
     path: impl Fn(f64) -> Result<Vec<(Pose, Twist)>>,
 ) -> Result<Vec<(Pose, Twist)>> {
     check_sub_steps(counts, params, "the step", h)?;
+    let groups = time_groups(counts);
+    let at = |k: usize, n: usize| path(h * k as f64 / n as f64);
+    check_poses(&groups, at)?;
+    // nothing fails from here on: the step is all or nothing
     // at the start of the run (nothing cut yet) a disc's start pose is cut
     // first, as Model Exchange's initial event does (kerf.fmu's rule)
     let mut first = false;
@@ -506,9 +538,7 @@ pub fn sweep(
             }
         }
     }
-    let (_, end) = cut_in_time_order(face, discs, states, params, counts, |k, n| {
-        path(h * k as f64 / n as f64)
-    })?;
+    let (_, end) = cut_in_time_order(face, discs, states, params, &groups, at)?;
     // the last time is k / n = 1 for every disc: `end` holds the motions at h
     discs.iter().for_each(Disc::forget);
     let o1 = evaluate_all(discs, states, &face.map, &end, params);

@@ -443,7 +443,8 @@ impl Head {
 
     /// Cuts the face at `motions` (a Model Exchange event; see
     /// [`commit_paths`]): every disc along its path from its last cut, in
-    /// disc order. Returns whether the face changed.
+    /// disc order. Returns whether the face changed. All or nothing, as
+    /// [`Head::advance_head`].
     pub fn commit(&mut self, motions: &[(Pose, Twist)], dt: f64) -> Result<bool> {
         super::model::check_interval(dt)?;
         self.check_motions(motions)?;
@@ -459,7 +460,9 @@ impl Head {
 
     /// Moves the head from `start` with `twist` (rigidly: the head turns with
     /// the whole angular velocity) for `h` seconds, every disc cutting the
-    /// face along its whole path. Returns the end pose of the head.
+    /// face along its whole path. Returns the end pose of the head. All or
+    /// nothing: a step that returns an error has changed nothing (every
+    /// check, every pose it would cut at included, comes first).
     pub fn advance_head(&mut self, start: &Pose, twist: &Twist, h: f64) -> Result<Pose> {
         check_step(h)?;
         start.validate()?;
@@ -493,7 +496,8 @@ impl Head {
 
     /// Moves every disc from its own start with its own twist for `h`
     /// seconds (the disc drive; each disc as kerf.fmu's Co-Simulation step),
-    /// cutting the face along every path. Returns the end poses.
+    /// cutting the face along every path. Returns the end poses. All or
+    /// nothing, as [`Head::advance_head`].
     pub fn advance_discs(&mut self, starts: &[(Pose, Twist)], h: f64) -> Result<Vec<Pose>> {
         check_step(h)?;
         self.check_motions(starts)?;

@@ -274,7 +274,10 @@ impl FmuModel for HeadModel {
     const EVENT_INDICATORS: usize = head_md::NUMBER_OF_EVENT_INDICATORS;
     const COMMITTED: &'static str = "cuts committed";
     const INITIALIZED: &'static str = "head initialized";
-    const FATAL_STEP_FAILURE: bool = true;
+    // the head's steps are all or nothing (`disc::sweep` checks every pose
+    // it will cut before it cuts): a refused step leaves the instance as it
+    // was, and a shorter one may follow
+    const FATAL_STEP_FAILURE: bool = false;
 
     fn var(&self, c: Class, r: u32) -> Option<VarInfo<'_>> {
         let v = &self.vars[*self.lookup.get(&(c, r))?];
@@ -484,12 +487,12 @@ impl FmuModel for HeadModel {
             Drive::Head => {
                 self.cs_head = head
                     .advance_head(&head_start, &twist, h)
-                    .map_err(|e| StepError::Failed(e.to_string()))?
+                    .map_err(|e| StepError::Refused(e.to_string()))?
             }
             Drive::Discs => {
                 self.cs_discs = head
                     .advance_discs(&motions, h)
-                    .map_err(|e| StepError::Failed(e.to_string()))?
+                    .map_err(|e| StepError::Refused(e.to_string()))?
             }
         }
         self.pose_set.iter_mut().for_each(|b| *b = false);

@@ -172,8 +172,8 @@ pub fn rock_over(
     }
     let k = look / n2.sqrt();
     let (ax, ay) = (k * tx, k * ty);
-    let mut z = map.bilinear(p.x + ax, p.y + ay);
-    if map.any_uncut(p.x + ax, p.y + ay) {
+    let (mut z, uncut) = map.bilinear_any_uncut(p.x + ax, p.y + ay);
+    if uncut {
         for (dx, dy) in [(ax - ay, ay + ax), (ax + ay, ay - ax)] {
             if let Some(u) = map.bilinear_uncut(p.x + dx, p.y + dy) {
                 z = z.max(u);

@@ -40,7 +40,7 @@
 
 use nalgebra::Vector3;
 
-use super::contact_law::{arc_load, pressure_level, smoothstep, Element, Load, Motion};
+use super::contact_law::{arc_load_in, pressure_level, smoothstep, Element, Load, Motion};
 use super::csm::{contact_angle, CsmLaw};
 use super::cutter::{wrap, PosedDisc};
 use super::heightmap::HeightMap;
@@ -241,6 +241,18 @@ pub struct Walk {
     b_in: (f64, f64),
     b_out: Option<(f64, f64)>,
     u_max: f64,
+    /// The rim's heights at the ends, once read (`Walk::end_heights`).
+    ends: Option<EndHeights>,
+}
+
+/// World heights of a walk's rim at its start `a`, at its last sample
+/// inside `b_in`, and at the far end of its end's bracket (`b_out`, else
+/// `b_in`): what the depth bounds and the unrefined ends read, once.
+#[derive(Debug, Clone, Copy, Default)]
+struct EndHeights {
+    a: f64,
+    b_in: f64,
+    b_far: f64,
 }
 
 impl Walk {
@@ -255,6 +267,20 @@ impl Walk {
         self.depth_to(disc, self.b_out.map_or(self.b_in.0, |o| o.0))
     }
 
+    /// The rim's heights at the walk's ends ([`EndHeights`]).
+    fn end_heights(&self, disc: &PosedDisc) -> EndHeights {
+        if let Some(z) = self.ends {
+            return z;
+        }
+        let rim = RimCircle::new(disc, self.y, self.radius);
+        let b_in = rim.z(self.b_in.0);
+        EndHeights {
+            a: rim.z(self.a),
+            b_in,
+            b_far: self.b_out.map_or(b_in, |o| rim.z(o.0)),
+        }
+    }
+
     /// The arc, its ends refined by regula falsi to `ANGLE_TOL` (`refine`) or
     /// left at the last sample inside (for arcs whose weight is negligible).
     pub fn finish(
@@ -265,33 +291,49 @@ impl Walk {
         refine_ends: bool,
         tol: f64,
     ) -> Arc {
+        self.finish_from(map, disc, look, refine_ends, tol, &self.end_heights(disc))
+    }
+
+    /// [`Walk::finish`], given the rim's heights at the walk's ends
+    /// (`self.end_heights(disc)`).
+    fn finish_from(
+        &self,
+        map: &HeightMap,
+        disc: &PosedDisc,
+        look: f64,
+        refine_ends: bool,
+        tol: f64,
+        z: &EndHeights,
+    ) -> Arc {
         let rim = RimCircle::new(disc, self.y, self.radius);
         let dir = self.dir;
-        let a = match (self.a_out, refine_ends) {
+        let (a, z_a) = match (self.a_out, refine_ends) {
             (Some((t_out, u_out, u_in)), true) => {
                 let f_start = |t: f64| {
                     let (s, c) = t.sin_cos();
                     rim.overlap(map, s, c, dir, look).0
                 };
-                refine(&f_start, self.a, t_out, u_in, u_out, tol)
+                let a = refine(&f_start, self.a, t_out, u_in, u_out, tol);
+                (a, rim.z(a))
             }
-            _ => self.a,
+            _ => (self.a, z.a),
         };
-        let b = match (self.b_out, refine_ends) {
+        let (b, z_b) = match (self.b_out, refine_ends) {
             (Some((t_out, u_out)), true) => {
                 let f_end = |t: f64| {
                     let (s, c) = t.sin_cos();
                     rim.overlap(map, s, c, dir, look).1
                 };
-                refine(&f_end, self.b_in.0, t_out, self.b_in.1, u_out, tol)
+                let b = refine(&f_end, self.b_in.0, t_out, self.b_in.1, u_out, tol);
+                (b, rim.z(b))
             }
-            (Some(_), false) => self.b_in.0,
-            (None, _) => self.b_in.0,
+            (Some(_), false) => (self.b_in.0, z.b_in),
+            (None, _) => (self.b_in.0, z.b_in),
         };
         Arc {
             a,
             b,
-            depth: (rim.z(b) - rim.z(a)).max(0.0),
+            depth: (z_b - z_a).max(0.0),
             length: self.radius * (b - a).abs(),
             u_max: self.u_max,
         }
@@ -406,6 +448,7 @@ pub fn march(
         b_in: (t_prev, u_prev),
         b_out,
         u_max,
+        ends: None,
     })
 }
 
@@ -511,11 +554,45 @@ pub fn arc_contribution(
     elastic_depth: f64,
     eta: f64,
 ) -> (Load, f64) {
+    arc_contribution_in(
+        map,
+        motion,
+        e,
+        (t0, t1),
+        (whole, drive),
+        (u_max, reg),
+        elastic_depth,
+        eta,
+        None,
+    )
+}
+
+/// [`arc_contribution`], given the arc's driving parts
+/// (`e.driving_parts(t0, t1)`) when the caller has them.
+#[allow(clippy::too_many_arguments)]
+fn arc_contribution_in(
+    map: &HeightMap,
+    motion: &Motion,
+    e: &Element,
+    (t0, t1): (f64, f64),
+    (whole, drive): (Load, Load),
+    (u_max, reg): (f64, f64),
+    elastic_depth: f64,
+    eta: f64,
+    parts: Option<&[(f64, f64)]>,
+) -> (Load, f64) {
     let sigma = motion.moving;
     let mut still_there = 1.0;
     if sigma > 0.0 && drive.force != Vector3::zeros() {
-        let (parts, np) = e.driving_parts(t0, t1);
-        if let Some(&(a, b)) = parts[..np]
+        let own;
+        let parts = match parts {
+            Some(p) => p,
+            None => {
+                own = e.driving_parts(t0, t1);
+                &own.0[..own.1]
+            }
+        };
+        if let Some(&(a, b)) = parts
             .iter()
             .max_by(|p, q| (p.1 - p.0).total_cmp(&(q.1 - q.0)))
         {
@@ -1037,11 +1114,15 @@ pub fn contact(
     }
     let mut lo = [0.0f64; 2];
     let mut hi = [0.0f64; 2];
-    for pair in walks.iter().take(nc) {
+    // (the rim's heights at each walk's ends are read once, for these
+    // bounds, `depth_to(b_in)` and `depth_bound`, and the unrefined ends)
+    for pair in walks.iter_mut().take(nc) {
         for s in 0..2 {
-            if let Some(w) = pair[s] {
-                lo[s] = lo[s].max(w.depth_to(disc, w.b_in.0));
-                hi[s] = hi[s].max(w.depth_bound(disc));
+            if let Some(w) = &mut pair[s] {
+                let z = w.end_heights(disc);
+                w.ends = Some(z);
+                lo[s] = lo[s].max((z.b_in - z.a).max(0.0));
+                hi[s] = hi[s].max((z.b_far - z.a).max(0.0));
             }
         }
     }
@@ -1053,12 +1134,20 @@ pub fn contact(
     // circles that may turn out deepest get the fine tolerance
     let deepest_lo = lo[0].max(lo[1]);
     let finish_pair = |pair: &[Option<Walk>; 2]| -> [Option<Arc>; 2] {
-        let may_govern = pair
+        // (the samples of strips split below read their heights here)
+        let z = pair.map(|w| w.map(|w| w.end_heights(disc)));
+        // (`depth_bound`, from the heights)
+        let may_govern = z
             .iter()
             .flatten()
-            .any(|w| w.depth_bound(disc) >= deepest_lo);
+            .any(|z| (z.b_far - z.a).max(0.0) >= deepest_lo);
         let tol = if may_govern { ANGLE_TOL } else { LEAN_TOL };
-        [0, 1].map(|s| pair[s].map(|w| w.finish(map, disc, look, refine_side[s], tol)))
+        [0, 1].map(|s| {
+            pair[s].map(|w| {
+                let z = z[s].unwrap_or_default();
+                w.finish_from(map, disc, look, refine_side[s], tol, &z)
+            })
+        })
     };
     // the rim slices' arcs first: a slice whose arc depth breaks with its
     // neighbours' (an arc end on an older groove's blurred wall or floor,
@@ -1137,8 +1226,10 @@ pub fn contact(
             } else {
                 (arc.b, arc.a, false)
             };
-            let (whole, drive) = arc_load(&e, t0, t1, far_hi, psi);
-            let (load, eff) = arc_contribution(
+            // (the driving parts once, for the load and the still-there test)
+            let (parts, np) = e.driving_parts(t0, t1);
+            let (whole, drive) = arc_load_in(&e, t0, t1, far_hi, psi, &parts[..np]);
+            let (load, eff) = arc_contribution_in(
                 map,
                 &motion,
                 &e,
@@ -1147,6 +1238,7 @@ pub fn contact(
                 (arc.u_max, law.regularisation(arc.depth)),
                 elastic_depth,
                 eta,
+                Some(&parts[..np]),
             );
             // a slice that touches over part of its strip sets the depth
             // in proportion to that part, up to half its strip: a sliver of

@@ -83,8 +83,18 @@ impl Trig {
     /// `integral from t0 to t1`.
     #[inline]
     pub fn integral(&self, t0: f64, t1: f64) -> Vector3<f64> {
-        let (s0, c0) = t0.sin_cos();
-        let (s1, c1) = t1.sin_cos();
+        self.integral_sc(t0, t1, t0.sin_cos(), t1.sin_cos())
+    }
+
+    /// [`Trig::integral`] given `t0.sin_cos()` and `t1.sin_cos()`.
+    #[inline]
+    pub fn integral_sc(
+        &self,
+        t0: f64,
+        t1: f64,
+        (s0, c0): (f64, f64),
+        (s1, c1): (f64, f64),
+    ) -> Vector3<f64> {
         self.s * (c0 - c1) + self.c * (s1 - s0) + self.k * (t1 - t0)
     }
 }
@@ -384,21 +394,76 @@ fn gauss16() -> &'static [(f64, f64); 16] {
 /// end (the free surface) is `hi` when `far_hi`, split into the whole arc
 /// and its driving part.
 pub fn arc_load(e: &Element, lo: f64, hi: f64, far_hi: bool, psi: f64) -> (Load, Load) {
+    if psi != 0.0 {
+        return arc_load_quadrature(e, lo, hi, far_hi, psi, true);
+    }
     let (parts, n) = e.driving_parts(lo, hi);
+    arc_load_in(e, lo, hi, far_hi, psi, &parts[..n])
+}
+
+/// [`arc_load`] with the arc's driving parts given (`e.driving_parts(lo,
+/// hi)`, which a caller that needs them as well computes once; only the
+/// closed form of `psi = 0` reads them).
+pub fn arc_load_in(
+    e: &Element,
+    lo: f64,
+    hi: f64,
+    far_hi: bool,
+    psi: f64,
+    parts: &[(f64, f64)],
+) -> (Load, Load) {
     if psi == 0.0 {
+        // (the sine and cosine of each end once: a driving part's end that
+        // is an end of the arc, bit for bit, reuses them)
+        let (sc_lo, sc_hi) = (lo.sin_cos(), hi.sin_cos());
+        let sc = |t: f64| {
+            if t.to_bits() == lo.to_bits() {
+                sc_lo
+            } else if t.to_bits() == hi.to_bits() {
+                sc_hi
+            } else {
+                t.sin_cos()
+            }
+        };
         let whole = Load {
-            force: e.force.integral(lo, hi),
-            moment: e.moment.integral(lo, hi),
+            force: e.force.integral_sc(lo, hi, sc_lo, sc_hi),
+            moment: e.moment.integral_sc(lo, hi, sc_lo, sc_hi),
         };
         let mut drive = Load::default();
-        for &(a, b) in &parts[..n] {
+        for &(a, b) in parts {
+            let (sa, sb) = (sc(a), sc(b));
             drive += Load {
-                force: e.force.integral(a, b),
-                moment: e.moment.integral(a, b),
+                force: e.force.integral_sc(a, b, sa, sb),
+                moment: e.moment.integral_sc(a, b, sa, sb),
             };
         }
         return (whole, drive);
     }
+    arc_load_quadrature(e, lo, hi, far_hi, psi, true)
+}
+
+/// The whole-arc part of [`arc_load`] alone.
+pub fn arc_load_whole(e: &Element, lo: f64, hi: f64, far_hi: bool, psi: f64) -> Load {
+    if psi == 0.0 {
+        let (sc_lo, sc_hi) = (lo.sin_cos(), hi.sin_cos());
+        return Load {
+            force: e.force.integral_sc(lo, hi, sc_lo, sc_hi),
+            moment: e.moment.integral_sc(lo, hi, sc_lo, sc_hi),
+        };
+    }
+    arc_load_quadrature(e, lo, hi, far_hi, psi, false).0
+}
+
+/// [`arc_load`] for `psi > 0`, by quadrature; the driving part only when
+/// `drive_too` (else zero).
+fn arc_load_quadrature(
+    e: &Element,
+    lo: f64,
+    hi: f64,
+    far_hi: bool,
+    psi: f64,
+    drive_too: bool,
+) -> (Load, Load) {
     // (u/L)^psi du with u from the far end = L/(1+psi) dv, u = L v^(1/(1+psi))
     let len = hi - lo;
     let ex = 1.0 / (1.0 + psi);
@@ -409,7 +474,7 @@ pub fn arc_load(e: &Element, lo: f64, hi: f64, far_hi: bool, psi: f64) -> (Load,
         let t = if far_hi { hi - u } else { lo + u };
         let l = e.load_at(t).scaled(w * scale);
         whole += l;
-        if e.vn_at(t) > e.vn_eps {
+        if drive_too && e.vn_at(t) > e.vn_eps {
             drive += l;
         }
     }
@@ -449,7 +514,7 @@ pub fn pressure_level(
         }
         let phi = ((rho - pk) / rho).clamp(-1.0, 1.0).acos();
         let e = Element::rim(disc, y, dy, &still);
-        let (whole, _) = arc_load(&e, 0.0, phi, true, psi);
+        let whole = arc_load_whole(&e, 0.0, phi, true, psi);
         let w = reg(pk);
         ir -= whole.force.x * w;
         inn += whole.force.z * w;

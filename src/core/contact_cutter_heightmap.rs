@@ -125,21 +125,27 @@ impl RimCircle {
     }
 
     /// Angles where the rim's world coordinate `axis` (0 = x, 1 = y) equals `e`.
-    fn crossings(&self, axis: usize, e: f64) -> Vec<f64> {
+    fn crossings(&self, axis: usize, e: f64) -> Option<[f64; 2]> {
         // base + ex sin + ez cos = e  <=>  m cos(theta - tm) = e - base
         let (a, b) = (self.ex[axis], self.ez[axis]);
         let m = (a * a + b * b).sqrt();
         let rhs = e - self.base[axis];
         if m < 1e-15 || rhs.abs() > m {
-            return Vec::new();
+            return None;
         }
         let tm = a.atan2(b);
         let d = (rhs / m).acos();
-        vec![tm + d, tm - d]
+        Some([tm + d, tm - d])
     }
 
     fn z(&self, theta: f64) -> f64 {
         self.base.z + self.ex.z * theta.sin() + self.ez.z * theta.cos()
+    }
+
+    /// [`RimCircle::z`] at the angle whose `sin_cos` is `(s, c)` (the same
+    /// arithmetic: `sin_cos` is `(sin, cos)`).
+    fn z_sc(&self, (s, c): (f64, f64)) -> f64 {
+        self.base.z + self.ex.z * s + self.ez.z * c
     }
 }
 
@@ -241,18 +247,26 @@ pub struct Walk {
     b_in: (f64, f64),
     b_out: Option<(f64, f64)>,
     u_max: f64,
+    /// `a.sin_cos()` where the march has it (a start at the lowest point).
+    sc_a: Option<(f64, f64)>,
     /// The rim's heights at the ends, once read (`Walk::end_heights`).
     ends: Option<EndHeights>,
 }
 
+/// A finished arc with `sin_cos` of its `a` and `b`.
+type Finished = (Arc, [(f64, f64); 2]);
+
 /// World heights of a walk's rim at its start `a`, at its last sample
 /// inside `b_in`, and at the far end of its end's bracket (`b_out`, else
-/// `b_in`): what the depth bounds and the unrefined ends read, once.
+/// `b_in`): what the depth bounds and the unrefined ends read, once; with
+/// `sin_cos` of `a` and `b_in`.
 #[derive(Debug, Clone, Copy, Default)]
 struct EndHeights {
     a: f64,
     b_in: f64,
     b_far: f64,
+    sc_a: (f64, f64),
+    sc_b_in: (f64, f64),
 }
 
 impl Walk {
@@ -273,11 +287,15 @@ impl Walk {
             return z;
         }
         let rim = RimCircle::new(disc, self.y, self.radius);
-        let b_in = rim.z(self.b_in.0);
+        let sc_a = self.sc_a.unwrap_or_else(|| self.a.sin_cos());
+        let sc_b_in = self.b_in.0.sin_cos();
+        let b_in = rim.z_sc(sc_b_in);
         EndHeights {
-            a: rim.z(self.a),
+            a: rim.z_sc(sc_a),
             b_in,
             b_far: self.b_out.map_or(b_in, |o| rim.z(o.0)),
+            sc_a,
+            sc_b_in,
         }
     }
 
@@ -292,10 +310,11 @@ impl Walk {
         tol: f64,
     ) -> Arc {
         self.finish_from(map, disc, look, refine_ends, tol, &self.end_heights(disc))
+            .0
     }
 
     /// [`Walk::finish`], given the rim's heights at the walk's ends
-    /// (`self.end_heights(disc)`).
+    /// (`self.end_heights(disc)`); with `sin_cos` of the arc's `a` and `b`.
     fn finish_from(
         &self,
         map: &HeightMap,
@@ -304,39 +323,42 @@ impl Walk {
         refine_ends: bool,
         tol: f64,
         z: &EndHeights,
-    ) -> Arc {
+    ) -> (Arc, [(f64, f64); 2]) {
         let rim = RimCircle::new(disc, self.y, self.radius);
         let dir = self.dir;
-        let (a, z_a) = match (self.a_out, refine_ends) {
+        let (a, z_a, sc_a) = match (self.a_out, refine_ends) {
             (Some((t_out, u_out, u_in)), true) => {
                 let f_start = |t: f64| {
                     let (s, c) = t.sin_cos();
                     rim.overlap(map, s, c, dir, look).0
                 };
                 let a = refine(&f_start, self.a, t_out, u_in, u_out, tol);
-                (a, rim.z(a))
+                let sc = a.sin_cos();
+                (a, rim.z_sc(sc), sc)
             }
-            _ => (self.a, z.a),
+            _ => (self.a, z.a, z.sc_a),
         };
-        let (b, z_b) = match (self.b_out, refine_ends) {
+        let (b, z_b, sc_b) = match (self.b_out, refine_ends) {
             (Some((t_out, u_out)), true) => {
                 let f_end = |t: f64| {
                     let (s, c) = t.sin_cos();
                     rim.overlap(map, s, c, dir, look).1
                 };
                 let b = refine(&f_end, self.b_in.0, t_out, self.b_in.1, u_out, tol);
-                (b, rim.z(b))
+                let sc = b.sin_cos();
+                (b, rim.z_sc(sc), sc)
             }
-            (Some(_), false) => (self.b_in.0, z.b_in),
-            (None, _) => (self.b_in.0, z.b_in),
+            (Some(_), false) => (self.b_in.0, z.b_in, z.sc_b_in),
+            (None, _) => (self.b_in.0, z.b_in, z.sc_b_in),
         };
-        Arc {
+        let arc = Arc {
             a,
             b,
             depth: (z_b - z_a).max(0.0),
             length: self.radius * (b - a).abs(),
             u_max: self.u_max,
-        }
+        };
+        (arc, [sc_a, sc_b])
     }
 }
 
@@ -356,16 +378,84 @@ pub fn march(
     look: f64,
 ) -> Option<Walk> {
     let rim = RimCircle::new(disc, y, radius);
+    let (s, c) = theta0.sin_cos();
+    let first = rim.overlap(map, s, c, dir, look);
+    march_from(
+        map,
+        &rim,
+        (y, radius),
+        (theta0, s, c),
+        first,
+        reach,
+        dir,
+        step,
+        look,
+    )
+}
+
+/// [`march`] on both sides (`dir` = +1, then -1): the circle, the lowest
+/// point's sine and cosine and, when the lowest point is inside the rock,
+/// its overlap (the same both ways: no look-ahead inside) read once.
+#[allow(clippy::too_many_arguments)]
+fn march_both(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    y: f64,
+    radius: f64,
+    theta0: f64,
+    reach: f64,
+    step: f64,
+    look: f64,
+) -> [Option<Walk>; 2] {
+    let rim = RimCircle::new(disc, y, radius);
+    let (s, c) = theta0.sin_cos();
+    let first = rim.overlap(map, s, c, 1.0, look);
+    let first_back = if first.0 > 0.0 {
+        first
+    } else {
+        rim.overlap(map, s, c, -1.0, look)
+    };
+    let side = |dir: f64, first: (f64, f64)| {
+        march_from(
+            map,
+            &rim,
+            (y, radius),
+            (theta0, s, c),
+            first,
+            reach,
+            dir,
+            step,
+            look,
+        )
+    };
+    [side(1.0, first), side(-1.0, first_back)]
+}
+
+/// [`march`] on the circle `rim` (`(y, radius)`) from `theta0` (sine `s0`,
+/// cosine `c0`), where the overlap is `(here0, ahead0)`.
+#[allow(clippy::too_many_arguments)]
+fn march_from(
+    map: &HeightMap,
+    rim: &RimCircle,
+    (y, radius): (f64, f64),
+    (theta0, s0, c0): (f64, f64, f64),
+    (here0, ahead0): (f64, f64),
+    reach: f64,
+    dir: f64,
+    step: f64,
+    look: f64,
+) -> Option<Walk> {
     let n = ((reach / step).ceil() as usize).max(1);
     let dt = dir * reach / n as f64;
     let (sd, cd) = dt.sin_cos();
-    let (mut s, mut c) = theta0.sin_cos();
+    let (mut s, mut c) = (s0, c0);
     let advance = |s: &mut f64, c: &mut f64| advance_by(s, c, sd, cd);
     // contact starts where the rim is below the rock itself ...
-    let (here0, ahead0) = rim.overlap(map, s, c, dir, look);
     let mut k = 0;
     let mut u_max = here0.max(0.0);
+    let mut sc_a = None;
     let (a, a_out, t_prev, u_prev) = if here0 > 0.0 {
+        sc_a = Some((s0, c0));
         (theta0, None, theta0, ahead0)
     } else {
         // the lowest point is out of the rock: search for the start with a
@@ -377,43 +467,56 @@ pub fn march(
         // ... and at the angles where the rim crosses the edges of the map,
         // where rock begins with a vertical face and an arc can be shorter
         // than any step
-        let mut angles: Vec<f64> = (1..=m).map(|kf| theta0 + dtf * kf as f64).collect();
         let g = map.grid();
-        let mut crossed = false;
+        let mut extra = [0.0f64; 8];
+        let mut ne = 0;
         for (axis, edges) in [(0usize, [g.x_min, g.x_max()]), (1, [g.y_min, g.y_max()])] {
             for e in edges {
-                for t in rim.crossings(axis, e) {
+                for t in rim.crossings(axis, e).into_iter().flatten() {
                     let off = wrap(t - theta0) * dir;
                     if off > 0.0 && off < reach {
-                        angles.push(theta0 + off * dir);
-                        crossed = true;
+                        extra[ne] = theta0 + off * dir;
+                        ne += 1;
                     }
                 }
             }
         }
-        if crossed {
-            angles.sort_by(|p, q| ((p - theta0) * dir).total_cmp(&((q - theta0) * dir)));
-        }
-        // on the even grid of angles (no map edge crossed, the usual case)
-        // the rim point turns by a fixed rotation, as in the walk below
-        let (sdf, cdf) = dtf.sin_cos();
-        let (mut sf, mut cf) = (s, c);
         let (mut tp, mut up) = (theta0, here0);
         let mut found = None;
-        for &t in &angles {
-            let (st, ct) = if crossed {
-                t.sin_cos()
-            } else {
-                advance_by(&mut sf, &mut cf, sdf, cdf);
-                (sf, cf)
-            };
+        let mut visit = |t: f64, st: f64, ct: f64| {
             let (here, ahead) = rim.overlap(map, st, ct, dir, look);
             if here > 0.0 {
                 found = Some((t, tp, up, here, ahead));
-                break;
+                return true;
             }
             tp = t;
             up = here;
+            false
+        };
+        let grid = |kf: usize| theta0 + dtf * kf as f64;
+        if ne > 0 {
+            // the grid and the crossings, in walking order
+            let mut angles: Vec<f64> = (1..=m).map(grid).collect();
+            angles.extend_from_slice(&extra[..ne]);
+            angles.sort_by(|p, q| ((p - theta0) * dir).total_cmp(&((q - theta0) * dir)));
+            for &t in &angles {
+                let (st, ct) = t.sin_cos();
+                if visit(t, st, ct) {
+                    break;
+                }
+            }
+        } else {
+            // on the even grid of angles (no map edge crossed, the usual
+            // case) the rim point turns by a fixed rotation, as in the walk
+            // below
+            let (sdf, cdf) = dtf.sin_cos();
+            let (mut sf, mut cf) = (s, c);
+            for kf in 1..=m {
+                advance_by(&mut sf, &mut cf, sdf, cdf);
+                if visit(grid(kf), sf, cf) {
+                    break;
+                }
+            }
         }
         let (t, tp, up, here, ahead) = found?;
         u_max = here;
@@ -448,6 +551,7 @@ pub fn march(
         b_in: (t_prev, u_prev),
         b_out,
         u_max,
+        sc_a,
         ends: None,
     })
 }
@@ -1017,19 +1121,16 @@ pub fn contact(
             continue;
         };
         let step = num.arc_step_cells * cell / c.radius;
-        for (s, dir) in [(0usize, 1.0f64), (1, -1.0)] {
-            pair[s] = march(
-                map,
-                disc,
-                c.y,
-                c.radius,
-                theta0,
-                reach.min(std::f64::consts::PI),
-                dir,
-                step,
-                look,
-            );
-        }
+        *pair = march_both(
+            map,
+            disc,
+            c.y,
+            c.radius,
+            theta0,
+            reach.min(std::f64::consts::PI),
+            step,
+            look,
+        );
         rim_touches |= c.face == 0.0 && pair.iter().any(Option::is_some);
     }
     // the rim slices as the part of their strip that touches the rock
@@ -1049,7 +1150,23 @@ pub fn contact(
             look,
         )
     };
-    let walk_at = |y: f64| [walk_side(y, 1.0), walk_side(y, -1.0)];
+    let walk_at = |y: f64| -> [Option<Walk>; 2] {
+        let rho = disc.rho(y);
+        let Some((theta0, reach)) = disc.arc_below(y, rho, z_top) else {
+            return [None, None];
+        };
+        let step = num.arc_step_cells * cell / rho;
+        march_both(
+            map,
+            disc,
+            y,
+            rho,
+            theta0,
+            reach.min(std::f64::consts::PI),
+            step,
+            look,
+        )
+    };
     // (a disc at rest keeps the midpoint rule: lifted off its pit, the
     // circles that still touch alternate with the node rows, no single
     // edge; the rule blends in with the travel speed)
@@ -1133,27 +1250,30 @@ pub fn contact(
     let refine_side = [matters(0), matters(1)];
     // circles that may turn out deepest get the fine tolerance
     let deepest_lo = lo[0].max(lo[1]);
-    let finish_pair = |pair: &[Option<Walk>; 2]| -> [Option<Arc>; 2] {
+    // (each arc with `sin_cos` of its ends, for its load)
+    let finish_pair = |pair: &[Option<Walk>; 2]| -> [Option<Finished>; 2] {
         // (the samples of strips split below read their heights here)
-        let z = pair.map(|w| w.map(|w| w.end_heights(disc)));
+        let heights = |s: usize| pair[s].as_ref().map(|w| w.end_heights(disc));
+        let z = [heights(0), heights(1)];
         // (`depth_bound`, from the heights)
         let may_govern = z
             .iter()
             .flatten()
             .any(|z| (z.b_far - z.a).max(0.0) >= deepest_lo);
         let tol = if may_govern { ANGLE_TOL } else { LEAN_TOL };
-        [0, 1].map(|s| {
-            pair[s].map(|w| {
-                let z = z[s].unwrap_or_default();
-                w.finish_from(map, disc, look, refine_side[s], tol, &z)
-            })
-        })
+        let finish = |s: usize| {
+            let z = z[s].unwrap_or_default();
+            pair[s]
+                .as_ref()
+                .map(|w| w.finish_from(map, disc, look, refine_side[s], tol, &z))
+        };
+        [finish(0), finish(1)]
     };
     // the rim slices' arcs first: a slice whose arc depth breaks with its
     // neighbours' (an arc end on an older groove's blurred wall or floor,
     // which moves steeply with the slice's place in its cell) is
     // integrated in thirds as well
-    let mut slice_arcs = [[None::<Arc>; 2]; 101];
+    let mut slice_arcs = [[None::<Finished>; 2]; 101];
     for (k, a) in slice_arcs.iter_mut().enumerate().take(n) {
         *a = finish_pair(&walks[k]);
     }
@@ -1162,7 +1282,7 @@ pub fn contact(
             slice_arcs[k]
                 .iter()
                 .flatten()
-                .map(|a| a.depth)
+                .map(|(a, _)| a.depth)
                 .fold(0.0, f64::max)
         };
         let profile = |k: usize| disc.radius - disc.rho(slice_y(h, n, k));
@@ -1203,8 +1323,12 @@ pub fn contact(
         } else {
             finish_pair(&walks[ci])
         };
+        // (the circle's element once, for both sides)
+        let mut element = None;
         for s in 0..2 {
-            let Some(arc) = finished[s] else { continue };
+            let Some((arc, sc)) = finished[s] else {
+                continue;
+            };
             any = true;
             if c.face == 0.0 {
                 if ci >= n_main {
@@ -1214,21 +1338,23 @@ pub fn contact(
                     gov = Some((ci, arc.depth));
                 }
             }
-            let e = if c.face == 0.0 {
-                Element::rim(disc, c.y, c.width, &motion)
-            } else if c.flank {
-                Element::flank(disc, c.y, c.width, &motion)
+            let e = *element.get_or_insert_with(|| {
+                if c.face == 0.0 {
+                    Element::rim(disc, c.y, c.width, &motion)
+                } else if c.flank {
+                    Element::flank(disc, c.y, c.width, &motion)
+                } else {
+                    Element::ring(disc, c.face, c.radius, c.width, &motion)
+                }
+            });
+            let (t0, t1, far_hi, sc01) = if arc.b >= arc.a {
+                (arc.a, arc.b, true, (sc[0], sc[1]))
             } else {
-                Element::ring(disc, c.face, c.radius, c.width, &motion)
-            };
-            let (t0, t1, far_hi) = if arc.b >= arc.a {
-                (arc.a, arc.b, true)
-            } else {
-                (arc.b, arc.a, false)
+                (arc.b, arc.a, false, (sc[1], sc[0]))
             };
             // (the driving parts once, for the load and the still-there test)
             let (parts, np) = e.driving_parts(t0, t1);
-            let (whole, drive) = arc_load_in(&e, t0, t1, far_hi, psi, &parts[..np]);
+            let (whole, drive) = arc_load_in(&e, (t0, t1), sc01, far_hi, psi, &parts[..np]);
             let (load, eff) = arc_contribution_in(
                 map,
                 &motion,
@@ -1269,7 +1395,7 @@ pub fn contact(
     if let Some((kg, _)) = gov {
         let rim_arcs = |ci: usize| {
             if ci < n {
-                slice_arcs[ci]
+                slice_arcs[ci].map(|f| f.map(|(a, _)| a))
             } else {
                 sub_arcs[ci - n_main]
             }

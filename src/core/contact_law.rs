@@ -398,24 +398,30 @@ pub fn arc_load(e: &Element, lo: f64, hi: f64, far_hi: bool, psi: f64) -> (Load,
         return arc_load_quadrature(e, lo, hi, far_hi, psi, true);
     }
     let (parts, n) = e.driving_parts(lo, hi);
-    arc_load_in(e, lo, hi, far_hi, psi, &parts[..n])
+    arc_load_in(
+        e,
+        (lo, hi),
+        (lo.sin_cos(), hi.sin_cos()),
+        far_hi,
+        psi,
+        &parts[..n],
+    )
 }
 
-/// [`arc_load`] with the arc's driving parts given (`e.driving_parts(lo,
-/// hi)`, which a caller that needs them as well computes once; only the
-/// closed form of `psi = 0` reads them).
+/// [`arc_load`] with the ends' `sin_cos` and the arc's driving parts
+/// given (`e.driving_parts(lo, hi)`), which a caller that needs them as
+/// well computes once (only the closed form of `psi = 0` reads them).
 pub fn arc_load_in(
     e: &Element,
-    lo: f64,
-    hi: f64,
+    (lo, hi): (f64, f64),
+    (sc_lo, sc_hi): ((f64, f64), (f64, f64)),
     far_hi: bool,
     psi: f64,
     parts: &[(f64, f64)],
 ) -> (Load, Load) {
     if psi == 0.0 {
-        // (the sine and cosine of each end once: a driving part's end that
-        // is an end of the arc, bit for bit, reuses them)
-        let (sc_lo, sc_hi) = (lo.sin_cos(), hi.sin_cos());
+        // (a driving part's end that is an end of the arc, bit for bit,
+        // reuses its sine and cosine)
         let sc = |t: f64| {
             if t.to_bits() == lo.to_bits() {
                 sc_lo

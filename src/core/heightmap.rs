@@ -726,7 +726,7 @@ impl HeightMap {
 
     /// Surface height at `(x, y)`, [`NO_ROCK`] outside the map (the same
     /// triangles as [`HeightMap::point`], without the slopes).
-    #[inline]
+    #[inline(always)]
     pub fn height(&self, x: f64, y: f64) -> f64 {
         let Some((i, j, fu, fv)) = self.grid.cell(x, y) else {
             return NO_ROCK;

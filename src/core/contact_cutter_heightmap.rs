@@ -124,6 +124,14 @@ impl RimCircle {
         rock_over(map, &p, tx, ty, 1e-12 * self.ex.norm_squared(), look)
     }
 
+    /// The first of [`RimCircle::overlap`] alone: the rock over the rim
+    /// here, without the look-ahead.
+    #[inline]
+    fn overlap_here(&self, map: &HeightMap, s: f64, c: f64) -> f64 {
+        let p = self.base + self.ex * s + self.ez * c;
+        map.height(p.x, p.y) - p.z
+    }
+
     /// Angles where the rim's world coordinate `axis` (0 = x, 1 = y) equals `e`.
     fn crossings(&self, axis: usize, e: f64) -> Option<[f64; 2]> {
         // base + ex sin + ez cos = e  <=>  m cos(theta - tm) = e - base
@@ -330,7 +338,7 @@ impl Walk {
             (Some((t_out, u_out, u_in)), true) => {
                 let f_start = |t: f64| {
                     let (s, c) = t.sin_cos();
-                    rim.overlap(map, s, c, dir, look).0
+                    rim.overlap_here(map, s, c)
                 };
                 let a = refine(&f_start, self.a, t_out, u_in, u_out, tol);
                 let sc = a.sin_cos();
@@ -379,13 +387,13 @@ pub fn march(
 ) -> Option<Walk> {
     let rim = RimCircle::new(disc, y, radius);
     let (s, c) = theta0.sin_cos();
-    let first = rim.overlap(map, s, c, dir, look);
+    let here0 = rim.overlap_here(map, s, c);
     march_from(
         map,
         &rim,
         (y, radius),
         (theta0, s, c),
-        first,
+        here0,
         reach,
         dir,
         step,
@@ -394,8 +402,7 @@ pub fn march(
 }
 
 /// [`march`] on both sides (`dir` = +1, then -1): the circle, the lowest
-/// point's sine and cosine and, when the lowest point is inside the rock,
-/// its overlap (the same both ways: no look-ahead inside) read once.
+/// point's sine and cosine and the rock over it read once.
 #[allow(clippy::too_many_arguments)]
 fn march_both(
     map: &HeightMap,
@@ -409,37 +416,36 @@ fn march_both(
 ) -> [Option<Walk>; 2] {
     let rim = RimCircle::new(disc, y, radius);
     let (s, c) = theta0.sin_cos();
-    let first = rim.overlap(map, s, c, 1.0, look);
-    let first_back = if first.0 > 0.0 {
-        first
-    } else {
-        rim.overlap(map, s, c, -1.0, look)
-    };
-    let side = |dir: f64, first: (f64, f64)| {
+    let here0 = rim.overlap_here(map, s, c);
+    let side = |dir: f64| {
         march_from(
             map,
             &rim,
             (y, radius),
             (theta0, s, c),
-            first,
+            here0,
             reach,
             dir,
             step,
             look,
         )
     };
-    [side(1.0, first), side(-1.0, first_back)]
+    [side(1.0), side(-1.0)]
 }
 
 /// [`march`] on the circle `rim` (`(y, radius)`) from `theta0` (sine `s0`,
-/// cosine `c0`), where the overlap is `(here0, ahead0)`.
+/// cosine `c0`), where the rock over the rim is `here0`.
+///
+/// (Until the start is found only the rock over the rim itself is read:
+/// where it is positive the look-ahead is that same value, see
+/// [`rock_over`], and where it is not the walk has not started.)
 #[allow(clippy::too_many_arguments)]
 fn march_from(
     map: &HeightMap,
     rim: &RimCircle,
     (y, radius): (f64, f64),
     (theta0, s0, c0): (f64, f64, f64),
-    (here0, ahead0): (f64, f64),
+    here0: f64,
     reach: f64,
     dir: f64,
     step: f64,
@@ -456,74 +462,24 @@ fn march_from(
     let mut sc_a = None;
     let (a, a_out, t_prev, u_prev) = if here0 > 0.0 {
         sc_a = Some((s0, c0));
-        (theta0, None, theta0, ahead0)
+        (theta0, None, theta0, here0)
     } else {
-        // the lowest point is out of the rock: search for the start with a
-        // step of half a cell of rim, so that a short arc (the rim meeting
-        // the end face of the rock, a groove's shoulder) is not stepped over
-        let fine = (look * 0.5 / radius).min(dt.abs());
-        let m = ((reach / fine).ceil() as usize).max(1);
-        let dtf = dir * reach / m as f64;
-        // ... and at the angles where the rim crosses the edges of the map,
-        // where rock begins with a vertical face and an arc can be shorter
-        // than any step
-        let g = map.grid();
-        let mut extra = [0.0f64; 8];
-        let mut ne = 0;
-        for (axis, edges) in [(0usize, [g.x_min, g.x_max()]), (1, [g.y_min, g.y_max()])] {
-            for e in edges {
-                for t in rim.crossings(axis, e).into_iter().flatten() {
-                    let off = wrap(t - theta0) * dir;
-                    if off > 0.0 && off < reach {
-                        extra[ne] = theta0 + off * dir;
-                        ne += 1;
-                    }
-                }
-            }
-        }
-        let (mut tp, mut up) = (theta0, here0);
-        let mut found = None;
-        let mut visit = |t: f64, st: f64, ct: f64| {
-            let (here, ahead) = rim.overlap(map, st, ct, dir, look);
-            if here > 0.0 {
-                found = Some((t, tp, up, here, ahead));
-                return true;
-            }
-            tp = t;
-            up = here;
-            false
-        };
-        let grid = |kf: usize| theta0 + dtf * kf as f64;
-        if ne > 0 {
-            // the grid and the crossings, in walking order
-            let mut angles: Vec<f64> = (1..=m).map(grid).collect();
-            angles.extend_from_slice(&extra[..ne]);
-            angles.sort_by(|p, q| ((p - theta0) * dir).total_cmp(&((q - theta0) * dir)));
-            for &t in &angles {
-                let (st, ct) = t.sin_cos();
-                if visit(t, st, ct) {
-                    break;
-                }
-            }
-        } else {
-            // on the even grid of angles (no map edge crossed, the usual
-            // case) the rim point turns by a fixed rotation, as in the walk
-            // below
-            let (sdf, cdf) = dtf.sin_cos();
-            let (mut sf, mut cf) = (s, c);
-            for kf in 1..=m {
-                advance_by(&mut sf, &mut cf, sdf, cdf);
-                if visit(grid(kf), sf, cf) {
-                    break;
-                }
-            }
-        }
-        let (t, tp, up, here, ahead) = found?;
+        let (t, tp, up, here) = find_start(
+            map,
+            rim,
+            radius,
+            (theta0, s0, c0),
+            here0,
+            reach,
+            dir,
+            dt,
+            look,
+        )?;
         u_max = here;
         // resume the coarse grid at the last grid angle before the start
         k = ((t - theta0) / dt).floor().max(0.0) as usize;
         (s, c) = (theta0 + dt * k as f64).sin_cos();
-        (t, Some((tp, up, here)), t, ahead)
+        (t, Some((tp, up, here)), t, here)
     };
     let (mut t_prev, mut u_prev) = (t_prev, u_prev);
     // ... and lasts while it is below the rock here or one cell ahead
@@ -553,6 +509,123 @@ fn march_from(
         u_max,
         sc_a,
         ends: None,
+    })
+}
+
+/// The start of a walk whose lowest point `theta0` (sine `s0`, cosine
+/// `c0`) is out of the rock (`here0 <= 0`), on the side `dir` within
+/// `reach`, the coarse step being `dt`: the first angle where the rock is
+/// over the rim, the angle before it and the rock over the rim there, and
+/// the rock over the rim at the start. `None` when the rim stays out.
+#[allow(clippy::too_many_arguments)]
+fn find_start(
+    map: &HeightMap,
+    rim: &RimCircle,
+    radius: f64,
+    (theta0, s0, c0): (f64, f64, f64),
+    here0: f64,
+    reach: f64,
+    dir: f64,
+    dt: f64,
+    look: f64,
+) -> Option<(f64, f64, f64, f64)> {
+    // the lowest point is out of the rock: search for the start with a
+    // step of half a cell of rim, so that a short arc (the rim meeting
+    // the end face of the rock, a groove's shoulder) is not stepped over
+    let fine = (look * 0.5 / radius).min(dt.abs());
+    let m = ((reach / fine).ceil() as usize).max(1);
+    let dtf = dir * reach / m as f64;
+    // ... and at the angles where the rim crosses the edges of the map,
+    // where rock begins with a vertical face and an arc can be shorter
+    // than any step
+    let g = map.grid();
+    let mut extra = [0.0f64; 8];
+    let mut ne = 0;
+    for (axis, edges) in [(0usize, [g.x_min, g.x_max()]), (1, [g.y_min, g.y_max()])] {
+        for e in edges {
+            for t in rim.crossings(axis, e).into_iter().flatten() {
+                let off = wrap(t - theta0) * dir;
+                if off > 0.0 && off < reach {
+                    extra[ne] = theta0 + off * dir;
+                    ne += 1;
+                }
+            }
+        }
+    }
+    let (mut tp, mut up) = (theta0, here0);
+    let mut found = None;
+    let mut visit = |t: f64, st: f64, ct: f64| {
+        let here = rim.overlap_here(map, st, ct);
+        if here > 0.0 {
+            found = Some((t, tp, up, here));
+            return true;
+        }
+        tp = t;
+        up = here;
+        false
+    };
+    let grid = |kf: usize| theta0 + dtf * kf as f64;
+    if ne > 0 {
+        // the grid and the crossings, in walking order
+        let mut angles: Vec<f64> = (1..=m).map(grid).collect();
+        angles.extend_from_slice(&extra[..ne]);
+        angles.sort_by(|p, q| ((p - theta0) * dir).total_cmp(&((q - theta0) * dir)));
+        for &t in &angles {
+            let (st, ct) = t.sin_cos();
+            if visit(t, st, ct) {
+                break;
+            }
+        }
+    } else {
+        // on the even grid of angles (no map edge crossed, the usual
+        // case) the rim point turns by a fixed rotation, as in the walk
+        // below
+        let (sdf, cdf) = dtf.sin_cos();
+        let (mut sf, mut cf) = (s0, c0);
+        for kf in 1..=m {
+            advance_by(&mut sf, &mut cf, sdf, cdf);
+            if visit(grid(kf), sf, cf) {
+                break;
+            }
+        }
+    }
+    found
+}
+
+/// Whether [`march`] finds a contact on either side (`march(..).is_some()`
+/// for `dir` = +1 or -1), without walking the arcs.
+#[allow(clippy::too_many_arguments)]
+fn march_touches(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    y: f64,
+    radius: f64,
+    theta0: f64,
+    reach: f64,
+    step: f64,
+    look: f64,
+) -> bool {
+    let rim = RimCircle::new(disc, y, radius);
+    let (s, c) = theta0.sin_cos();
+    let here0 = rim.overlap_here(map, s, c);
+    if here0 > 0.0 {
+        return true;
+    }
+    let n = ((reach / step).ceil() as usize).max(1);
+    [1.0, -1.0].into_iter().any(|dir| {
+        let dt = dir * reach / n as f64;
+        find_start(
+            map,
+            &rim,
+            radius,
+            (theta0, s, c),
+            here0,
+            reach,
+            dir,
+            dt,
+            look,
+        )
+        .is_some()
     })
 }
 
@@ -1134,22 +1207,6 @@ pub fn contact(
         rim_touches |= c.face == 0.0 && pair.iter().any(Option::is_some);
     }
     // the rim slices as the part of their strip that touches the rock
-    let walk_side = |y: f64, dir: f64| -> Option<Walk> {
-        let rho = disc.rho(y);
-        let (theta0, reach) = disc.arc_below(y, rho, z_top)?;
-        let step = num.arc_step_cells * cell / rho;
-        march(
-            map,
-            disc,
-            y,
-            rho,
-            theta0,
-            reach.min(std::f64::consts::PI),
-            dir,
-            step,
-            look,
-        )
-    };
     let walk_at = |y: f64| -> [Option<Walk>; 2] {
         let rho = disc.rho(y);
         let Some((theta0, reach)) = disc.arc_below(y, rho, z_top) else {
@@ -1176,7 +1233,15 @@ pub fn contact(
             h,
             n,
             |k| walks[k].iter().any(Option::is_some),
-            |y| walk_side(y, 1.0).is_some() || walk_side(y, -1.0).is_some(),
+            |y| {
+                let rho = disc.rho(y);
+                disc.arc_below(y, rho, z_top)
+                    .is_some_and(|(theta0, reach)| {
+                        let step = num.arc_step_cells * cell / rho;
+                        let reach = reach.min(std::f64::consts::PI);
+                        march_touches(map, disc, y, rho, theta0, reach, step, look)
+                    })
+            },
             |y| {
                 let rho = disc.rho(y);
                 disc.arc_below(y, rho, z_top).is_none_or(|(theta0, _)| {
@@ -1323,7 +1388,7 @@ pub fn contact(
         } else {
             finish_pair(&walks[ci])
         };
-        // (the circle's element once, for both sides)
+        // (the circle's element and where it drives once, for both sides)
         let mut element = None;
         for s in 0..2 {
             let Some((arc, sc)) = finished[s] else {
@@ -1338,14 +1403,15 @@ pub fn contact(
                     gov = Some((ci, arc.depth));
                 }
             }
-            let e = *element.get_or_insert_with(|| {
-                if c.face == 0.0 {
+            let (e, driving) = *element.get_or_insert_with(|| {
+                let e = if c.face == 0.0 {
                     Element::rim(disc, c.y, c.width, &motion)
                 } else if c.flank {
                     Element::flank(disc, c.y, c.width, &motion)
                 } else {
                     Element::ring(disc, c.face, c.radius, c.width, &motion)
-                }
+                };
+                (e, e.driving())
             });
             let (t0, t1, far_hi, sc01) = if arc.b >= arc.a {
                 (arc.a, arc.b, true, (sc[0], sc[1]))
@@ -1353,7 +1419,7 @@ pub fn contact(
                 (arc.b, arc.a, false, (sc[1], sc[0]))
             };
             // (the driving parts once, for the load and the still-there test)
-            let (parts, np) = e.driving_parts(t0, t1);
+            let (parts, np) = e.driving_parts_on(driving, t0, t1);
             let (whole, drive) = arc_load_in(&e, (t0, t1), sc01, far_hi, psi, &parts[..np]);
             let (load, eff) = arc_contribution_in(
                 map,

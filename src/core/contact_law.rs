@@ -130,6 +130,15 @@ impl std::ops::AddAssign for Load {
     }
 }
 
+/// Where a circle's surface drives into the rock ([`Element::driving`]):
+/// everywhere or nowhere (`All(drives)`), or within `h` of the angle `tm`
+/// (`About(tm, h)`, repeating every turn).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Driving {
+    All(bool),
+    About(f64, f64),
+}
+
 /// One circle of the disc's surface about the axle, with the densities of a
 /// unit pressure on it and the normal velocity of its points.
 #[derive(Debug, Clone, Copy)]
@@ -331,20 +340,37 @@ impl Element {
 
     /// The parts of `[lo, hi]` where `v_n > 0` (at most two intervals).
     pub fn driving_parts(&self, lo: f64, hi: f64) -> ([(f64, f64); 2], usize) {
-        let mut out = [(0.0, 0.0); 2];
-        let mut n = 0;
+        self.driving_parts_on(self.driving(), lo, hi)
+    }
+
+    /// Where on the whole circle `v_n > 0`, for [`Element::driving_parts_on`]
+    /// (which a caller with several arcs on one circle computes once).
+    pub fn driving(&self) -> Driving {
         let (a, b, c) = self.vn;
         let m = a.hypot(b);
         if m <= c.abs() + self.vn_eps {
-            if c > self.vn_eps && hi > lo {
-                out[0] = (lo, hi);
-                n = 1;
-            }
-            return (out, n);
+            return Driving::All(c > self.vn_eps);
         }
         // a sin + b cos = m cos(t - tm)
         let tm = a.atan2(b);
         let h = (-c / m).clamp(-1.0, 1.0).acos();
+        Driving::About(tm, h)
+    }
+
+    /// [`Element::driving_parts`] given [`Element::driving`].
+    pub fn driving_parts_on(&self, d: Driving, lo: f64, hi: f64) -> ([(f64, f64); 2], usize) {
+        let mut out = [(0.0, 0.0); 2];
+        let mut n = 0;
+        let (tm, h) = match d {
+            Driving::All(drives) => {
+                if drives && hi > lo {
+                    out[0] = (lo, hi);
+                    n = 1;
+                }
+                return (out, n);
+            }
+            Driving::About(tm, h) => (tm, h),
+        };
         let two_pi = 2.0 * std::f64::consts::PI;
         let k0 = ((0.5 * (lo + hi) - tm) / two_pi).round();
         for dk in [-1.0, 0.0, 1.0] {

@@ -115,7 +115,7 @@ impl RimCircle {
     /// direction `dir`: `(plain, ahead)`, the overlap of the rock here and the
     /// larger of that and the overlap of the rock one look-ahead further along
     /// the walk (bilinear).
-    #[inline]
+    #[inline(always)]
     fn overlap(&self, map: &HeightMap, s: f64, c: f64, dir: f64, look: f64) -> (f64, f64) {
         let p = self.base + self.ex * s + self.ez * c;
         // horizontal direction of the walk (d/dtheta of the point)

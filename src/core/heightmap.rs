@@ -632,6 +632,28 @@ impl HeightMap {
         }
     }
 
+    /// [`HeightMap::cell_nodes`] and [`HeightMap::cell_cut`] from one tile
+    /// lookup.
+    #[inline(always)]
+    fn cell_nodes_cut(&self, i: usize, j: usize) -> ([f64; 4], u32) {
+        if i % TILE < TILE - 1 && j % TILE < TILE - 1 {
+            let (t, k) = self.tile_index(i, j);
+            match &self.tiles[t] {
+                Some(tile) => {
+                    let z = &tile.d.z[k..k + TILE + 2];
+                    let bit = |k: usize| (tile.d.cut[k / 64] >> (k % 64) & 1) as u32;
+                    (
+                        [z[0], z[1], z[TILE], z[TILE + 1]],
+                        bit(k) | bit(k + 1) << 1 | bit(k + TILE) << 2 | bit(k + TILE + 1) << 3,
+                    )
+                }
+                None => ([self.z0; 4], 0),
+            }
+        } else {
+            (self.cell_nodes(i, j), self.cell_cut(i, j))
+        }
+    }
+
     /// An upper bound of the node heights with indices in the given ranges.
     pub fn max_height(&self, i0: usize, i1: usize, j0: usize, j1: usize) -> f64 {
         let mut m = NO_ROCK;
@@ -698,10 +720,8 @@ impl HeightMap {
         let Some((i, j, fu, fv)) = self.grid.cell(x, y) else {
             return (NO_ROCK, false);
         };
-        (
-            bilerp(self.cell_nodes(i, j), fu, fv),
-            self.cell_cut(i, j) != 0b1111,
-        )
+        let (z, cut) = self.cell_nodes_cut(i, j);
+        (bilerp(z, fu, fv), cut != 0b1111)
     }
 
     /// Does the cell holding `(x, y)` have a node no cut has lowered?
@@ -718,10 +738,8 @@ impl HeightMap {
     #[inline]
     pub fn bilinear_uncut(&self, x: f64, y: f64) -> Option<f64> {
         let (i, j, fu, fv) = self.grid.cell(x, y)?;
-        if self.cell_cut(i, j) != 0 {
-            return None;
-        }
-        Some(bilerp(self.cell_nodes(i, j), fu, fv))
+        let (z, cut) = self.cell_nodes_cut(i, j);
+        (cut == 0).then(|| bilerp(z, fu, fv))
     }
 
     /// Surface height at `(x, y)`, [`NO_ROCK`] outside the map (the same

@@ -40,7 +40,7 @@
 
 use nalgebra::Vector3;
 
-use super::contact_law::{arc_load, pressure_level, smoothstep, Element, Load, Motion};
+use super::contact_law::{arc_load_in, pressure_level, smoothstep, Element, Load, Motion};
 use super::csm::{contact_angle, CsmLaw};
 use super::cutter::{wrap, PosedDisc};
 use super::heightmap::HeightMap;
@@ -115,7 +115,7 @@ impl RimCircle {
     /// direction `dir`: `(plain, ahead)`, the overlap of the rock here and the
     /// larger of that and the overlap of the rock one look-ahead further along
     /// the walk (bilinear).
-    #[inline]
+    #[inline(always)]
     fn overlap(&self, map: &HeightMap, s: f64, c: f64, dir: f64, look: f64) -> (f64, f64) {
         let p = self.base + self.ex * s + self.ez * c;
         // horizontal direction of the walk (d/dtheta of the point)
@@ -124,22 +124,36 @@ impl RimCircle {
         rock_over(map, &p, tx, ty, 1e-12 * self.ex.norm_squared(), look)
     }
 
+    /// The first of [`RimCircle::overlap`] alone: the rock over the rim
+    /// here, without the look-ahead.
+    #[inline]
+    fn overlap_here(&self, map: &HeightMap, s: f64, c: f64) -> f64 {
+        let p = self.base + self.ex * s + self.ez * c;
+        map.height(p.x, p.y) - p.z
+    }
+
     /// Angles where the rim's world coordinate `axis` (0 = x, 1 = y) equals `e`.
-    fn crossings(&self, axis: usize, e: f64) -> Vec<f64> {
+    fn crossings(&self, axis: usize, e: f64) -> Option<[f64; 2]> {
         // base + ex sin + ez cos = e  <=>  m cos(theta - tm) = e - base
         let (a, b) = (self.ex[axis], self.ez[axis]);
         let m = (a * a + b * b).sqrt();
         let rhs = e - self.base[axis];
         if m < 1e-15 || rhs.abs() > m {
-            return Vec::new();
+            return None;
         }
         let tm = a.atan2(b);
         let d = (rhs / m).acos();
-        vec![tm + d, tm - d]
+        Some([tm + d, tm - d])
     }
 
     fn z(&self, theta: f64) -> f64 {
         self.base.z + self.ex.z * theta.sin() + self.ez.z * theta.cos()
+    }
+
+    /// [`RimCircle::z`] at the angle whose `sin_cos` is `(s, c)` (the same
+    /// arithmetic: `sin_cos` is `(sin, cos)`).
+    fn z_sc(&self, (s, c): (f64, f64)) -> f64 {
+        self.base.z + self.ex.z * s + self.ez.z * c
     }
 }
 
@@ -172,8 +186,8 @@ pub fn rock_over(
     }
     let k = look / n2.sqrt();
     let (ax, ay) = (k * tx, k * ty);
-    let mut z = map.bilinear(p.x + ax, p.y + ay);
-    if map.any_uncut(p.x + ax, p.y + ay) {
+    let (mut z, uncut) = map.bilinear_any_uncut(p.x + ax, p.y + ay);
+    if uncut {
         for (dx, dy) in [(ax - ay, ay + ax), (ax + ay, ay - ax)] {
             if let Some(u) = map.bilinear_uncut(p.x + dx, p.y + dy) {
                 z = z.max(u);
@@ -241,6 +255,26 @@ pub struct Walk {
     b_in: (f64, f64),
     b_out: Option<(f64, f64)>,
     u_max: f64,
+    /// `a.sin_cos()` where the march has it (a start at the lowest point).
+    sc_a: Option<(f64, f64)>,
+    /// The rim's heights at the ends, once read (`Walk::end_heights`).
+    ends: Option<EndHeights>,
+}
+
+/// A finished arc with `sin_cos` of its `a` and `b`.
+type Finished = (Arc, [(f64, f64); 2]);
+
+/// World heights of a walk's rim at its start `a`, at its last sample
+/// inside `b_in`, and at the far end of its end's bracket (`b_out`, else
+/// `b_in`): what the depth bounds and the unrefined ends read, once; with
+/// `sin_cos` of `a` and `b_in`.
+#[derive(Debug, Clone, Copy, Default)]
+struct EndHeights {
+    a: f64,
+    b_in: f64,
+    b_far: f64,
+    sc_a: (f64, f64),
+    sc_b_in: (f64, f64),
 }
 
 impl Walk {
@@ -255,6 +289,24 @@ impl Walk {
         self.depth_to(disc, self.b_out.map_or(self.b_in.0, |o| o.0))
     }
 
+    /// The rim's heights at the walk's ends ([`EndHeights`]).
+    fn end_heights(&self, disc: &PosedDisc) -> EndHeights {
+        if let Some(z) = self.ends {
+            return z;
+        }
+        let rim = RimCircle::new(disc, self.y, self.radius);
+        let sc_a = self.sc_a.unwrap_or_else(|| self.a.sin_cos());
+        let sc_b_in = self.b_in.0.sin_cos();
+        let b_in = rim.z_sc(sc_b_in);
+        EndHeights {
+            a: rim.z_sc(sc_a),
+            b_in,
+            b_far: self.b_out.map_or(b_in, |o| rim.z(o.0)),
+            sc_a,
+            sc_b_in,
+        }
+    }
+
     /// The arc, its ends refined by regula falsi to `ANGLE_TOL` (`refine`) or
     /// left at the last sample inside (for arcs whose weight is negligible).
     pub fn finish(
@@ -265,36 +317,56 @@ impl Walk {
         refine_ends: bool,
         tol: f64,
     ) -> Arc {
+        self.finish_from(map, disc, look, refine_ends, tol, &self.end_heights(disc))
+            .0
+    }
+
+    /// [`Walk::finish`], given the rim's heights at the walk's ends
+    /// (`self.end_heights(disc)`); with `sin_cos` of the arc's `a` and `b`.
+    fn finish_from(
+        &self,
+        map: &HeightMap,
+        disc: &PosedDisc,
+        look: f64,
+        refine_ends: bool,
+        tol: f64,
+        z: &EndHeights,
+    ) -> (Arc, [(f64, f64); 2]) {
         let rim = RimCircle::new(disc, self.y, self.radius);
         let dir = self.dir;
-        let a = match (self.a_out, refine_ends) {
+        let (a, z_a, sc_a) = match (self.a_out, refine_ends) {
             (Some((t_out, u_out, u_in)), true) => {
                 let f_start = |t: f64| {
                     let (s, c) = t.sin_cos();
-                    rim.overlap(map, s, c, dir, look).0
+                    rim.overlap_here(map, s, c)
                 };
-                refine(&f_start, self.a, t_out, u_in, u_out, tol)
+                let a = refine(&f_start, self.a, t_out, u_in, u_out, tol);
+                let sc = a.sin_cos();
+                (a, rim.z_sc(sc), sc)
             }
-            _ => self.a,
+            _ => (self.a, z.a, z.sc_a),
         };
-        let b = match (self.b_out, refine_ends) {
+        let (b, z_b, sc_b) = match (self.b_out, refine_ends) {
             (Some((t_out, u_out)), true) => {
                 let f_end = |t: f64| {
                     let (s, c) = t.sin_cos();
                     rim.overlap(map, s, c, dir, look).1
                 };
-                refine(&f_end, self.b_in.0, t_out, self.b_in.1, u_out, tol)
+                let b = refine(&f_end, self.b_in.0, t_out, self.b_in.1, u_out, tol);
+                let sc = b.sin_cos();
+                (b, rim.z_sc(sc), sc)
             }
-            (Some(_), false) => self.b_in.0,
-            (None, _) => self.b_in.0,
+            (Some(_), false) => (self.b_in.0, z.b_in, z.sc_b_in),
+            (None, _) => (self.b_in.0, z.b_in, z.sc_b_in),
         };
-        Arc {
+        let arc = Arc {
             a,
             b,
-            depth: (rim.z(b) - rim.z(a)).max(0.0),
+            depth: (z_b - z_a).max(0.0),
             length: self.radius * (b - a).abs(),
             u_max: self.u_max,
-        }
+        };
+        (arc, [sc_a, sc_b])
     }
 }
 
@@ -314,71 +386,100 @@ pub fn march(
     look: f64,
 ) -> Option<Walk> {
     let rim = RimCircle::new(disc, y, radius);
+    let (s, c) = theta0.sin_cos();
+    let here0 = rim.overlap_here(map, s, c);
+    march_from(
+        map,
+        &rim,
+        (y, radius),
+        (theta0, s, c),
+        here0,
+        reach,
+        dir,
+        step,
+        look,
+    )
+}
+
+/// [`march`] on both sides (`dir` = +1, then -1): the circle, the lowest
+/// point's sine and cosine and the rock over it read once.
+#[allow(clippy::too_many_arguments)]
+fn march_both(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    y: f64,
+    radius: f64,
+    theta0: f64,
+    reach: f64,
+    step: f64,
+    look: f64,
+) -> [Option<Walk>; 2] {
+    let rim = RimCircle::new(disc, y, radius);
+    let (s, c) = theta0.sin_cos();
+    let here0 = rim.overlap_here(map, s, c);
+    let side = |dir: f64| {
+        march_from(
+            map,
+            &rim,
+            (y, radius),
+            (theta0, s, c),
+            here0,
+            reach,
+            dir,
+            step,
+            look,
+        )
+    };
+    [side(1.0), side(-1.0)]
+}
+
+/// [`march`] on the circle `rim` (`(y, radius)`) from `theta0` (sine `s0`,
+/// cosine `c0`), where the rock over the rim is `here0`.
+///
+/// (Until the start is found only the rock over the rim itself is read:
+/// where it is positive the look-ahead is that same value, see
+/// [`rock_over`], and where it is not the walk has not started.)
+#[allow(clippy::too_many_arguments)]
+fn march_from(
+    map: &HeightMap,
+    rim: &RimCircle,
+    (y, radius): (f64, f64),
+    (theta0, s0, c0): (f64, f64, f64),
+    here0: f64,
+    reach: f64,
+    dir: f64,
+    step: f64,
+    look: f64,
+) -> Option<Walk> {
     let n = ((reach / step).ceil() as usize).max(1);
     let dt = dir * reach / n as f64;
     let (sd, cd) = dt.sin_cos();
-    let (mut s, mut c) = theta0.sin_cos();
+    let (mut s, mut c) = (s0, c0);
     let advance = |s: &mut f64, c: &mut f64| advance_by(s, c, sd, cd);
     // contact starts where the rim is below the rock itself ...
-    let (here0, ahead0) = rim.overlap(map, s, c, dir, look);
     let mut k = 0;
     let mut u_max = here0.max(0.0);
+    let mut sc_a = None;
     let (a, a_out, t_prev, u_prev) = if here0 > 0.0 {
-        (theta0, None, theta0, ahead0)
+        sc_a = Some((s0, c0));
+        (theta0, None, theta0, here0)
     } else {
-        // the lowest point is out of the rock: search for the start with a
-        // step of half a cell of rim, so that a short arc (the rim meeting
-        // the end face of the rock, a groove's shoulder) is not stepped over
-        let fine = (look * 0.5 / radius).min(dt.abs());
-        let m = ((reach / fine).ceil() as usize).max(1);
-        let dtf = dir * reach / m as f64;
-        // ... and at the angles where the rim crosses the edges of the map,
-        // where rock begins with a vertical face and an arc can be shorter
-        // than any step
-        let mut angles: Vec<f64> = (1..=m).map(|kf| theta0 + dtf * kf as f64).collect();
-        let g = map.grid();
-        let mut crossed = false;
-        for (axis, edges) in [(0usize, [g.x_min, g.x_max()]), (1, [g.y_min, g.y_max()])] {
-            for e in edges {
-                for t in rim.crossings(axis, e) {
-                    let off = wrap(t - theta0) * dir;
-                    if off > 0.0 && off < reach {
-                        angles.push(theta0 + off * dir);
-                        crossed = true;
-                    }
-                }
-            }
-        }
-        if crossed {
-            angles.sort_by(|p, q| ((p - theta0) * dir).total_cmp(&((q - theta0) * dir)));
-        }
-        // on the even grid of angles (no map edge crossed, the usual case)
-        // the rim point turns by a fixed rotation, as in the walk below
-        let (sdf, cdf) = dtf.sin_cos();
-        let (mut sf, mut cf) = (s, c);
-        let (mut tp, mut up) = (theta0, here0);
-        let mut found = None;
-        for &t in &angles {
-            let (st, ct) = if crossed {
-                t.sin_cos()
-            } else {
-                advance_by(&mut sf, &mut cf, sdf, cdf);
-                (sf, cf)
-            };
-            let (here, ahead) = rim.overlap(map, st, ct, dir, look);
-            if here > 0.0 {
-                found = Some((t, tp, up, here, ahead));
-                break;
-            }
-            tp = t;
-            up = here;
-        }
-        let (t, tp, up, here, ahead) = found?;
+        let (t, tp, up, here) = find_start(
+            map,
+            rim,
+            radius,
+            (theta0, s0, c0),
+            here0,
+            reach,
+            dir,
+            dt,
+            look,
+        )?;
         u_max = here;
         // resume the coarse grid at the last grid angle before the start
         k = ((t - theta0) / dt).floor().max(0.0) as usize;
         (s, c) = (theta0 + dt * k as f64).sin_cos();
-        (t, Some((tp, up, here)), t, ahead)
+        (t, Some((tp, up, here)), t, here)
     };
     let (mut t_prev, mut u_prev) = (t_prev, u_prev);
     // ... and lasts while it is below the rock here or one cell ahead
@@ -406,6 +507,125 @@ pub fn march(
         b_in: (t_prev, u_prev),
         b_out,
         u_max,
+        sc_a,
+        ends: None,
+    })
+}
+
+/// The start of a walk whose lowest point `theta0` (sine `s0`, cosine
+/// `c0`) is out of the rock (`here0 <= 0`), on the side `dir` within
+/// `reach`, the coarse step being `dt`: the first angle where the rock is
+/// over the rim, the angle before it and the rock over the rim there, and
+/// the rock over the rim at the start. `None` when the rim stays out.
+#[allow(clippy::too_many_arguments)]
+fn find_start(
+    map: &HeightMap,
+    rim: &RimCircle,
+    radius: f64,
+    (theta0, s0, c0): (f64, f64, f64),
+    here0: f64,
+    reach: f64,
+    dir: f64,
+    dt: f64,
+    look: f64,
+) -> Option<(f64, f64, f64, f64)> {
+    // the lowest point is out of the rock: search for the start with a
+    // step of half a cell of rim, so that a short arc (the rim meeting
+    // the end face of the rock, a groove's shoulder) is not stepped over
+    let fine = (look * 0.5 / radius).min(dt.abs());
+    let m = ((reach / fine).ceil() as usize).max(1);
+    let dtf = dir * reach / m as f64;
+    // ... and at the angles where the rim crosses the edges of the map,
+    // where rock begins with a vertical face and an arc can be shorter
+    // than any step
+    let g = map.grid();
+    let mut extra = [0.0f64; 8];
+    let mut ne = 0;
+    for (axis, edges) in [(0usize, [g.x_min, g.x_max()]), (1, [g.y_min, g.y_max()])] {
+        for e in edges {
+            for t in rim.crossings(axis, e).into_iter().flatten() {
+                let off = wrap(t - theta0) * dir;
+                if off > 0.0 && off < reach {
+                    extra[ne] = theta0 + off * dir;
+                    ne += 1;
+                }
+            }
+        }
+    }
+    let (mut tp, mut up) = (theta0, here0);
+    let mut found = None;
+    let mut visit = |t: f64, st: f64, ct: f64| {
+        let here = rim.overlap_here(map, st, ct);
+        if here > 0.0 {
+            found = Some((t, tp, up, here));
+            return true;
+        }
+        tp = t;
+        up = here;
+        false
+    };
+    let grid = |kf: usize| theta0 + dtf * kf as f64;
+    if ne > 0 {
+        // the grid and the crossings, in walking order
+        let mut angles: Vec<f64> = (1..=m).map(grid).collect();
+        angles.extend_from_slice(&extra[..ne]);
+        angles.sort_by(|p, q| ((p - theta0) * dir).total_cmp(&((q - theta0) * dir)));
+        for &t in &angles {
+            let (st, ct) = t.sin_cos();
+            if visit(t, st, ct) {
+                break;
+            }
+        }
+    } else {
+        // on the even grid of angles (no map edge crossed, the usual
+        // case) the rim point turns by a fixed rotation, as in the walk
+        // below
+        let (sdf, cdf) = dtf.sin_cos();
+        let (mut sf, mut cf) = (s0, c0);
+        for kf in 1..=m {
+            advance_by(&mut sf, &mut cf, sdf, cdf);
+            if visit(grid(kf), sf, cf) {
+                break;
+            }
+        }
+    }
+    found
+}
+
+/// Whether [`march`] finds a contact on either side (`march(..).is_some()`
+/// for `dir` = +1 or -1), without walking the arcs.
+#[allow(clippy::too_many_arguments)]
+fn march_touches(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    y: f64,
+    radius: f64,
+    theta0: f64,
+    reach: f64,
+    step: f64,
+    look: f64,
+) -> bool {
+    let rim = RimCircle::new(disc, y, radius);
+    let (s, c) = theta0.sin_cos();
+    let here0 = rim.overlap_here(map, s, c);
+    if here0 > 0.0 {
+        return true;
+    }
+    let n = ((reach / step).ceil() as usize).max(1);
+    [1.0, -1.0].into_iter().any(|dir| {
+        let dt = dir * reach / n as f64;
+        find_start(
+            map,
+            &rim,
+            radius,
+            (theta0, s, c),
+            here0,
+            reach,
+            dir,
+            dt,
+            look,
+        )
+        .is_some()
     })
 }
 
@@ -511,11 +731,45 @@ pub fn arc_contribution(
     elastic_depth: f64,
     eta: f64,
 ) -> (Load, f64) {
+    arc_contribution_in(
+        map,
+        motion,
+        e,
+        (t0, t1),
+        (whole, drive),
+        (u_max, reg),
+        elastic_depth,
+        eta,
+        None,
+    )
+}
+
+/// [`arc_contribution`], given the arc's driving parts
+/// (`e.driving_parts(t0, t1)`) when the caller has them.
+#[allow(clippy::too_many_arguments)]
+fn arc_contribution_in(
+    map: &HeightMap,
+    motion: &Motion,
+    e: &Element,
+    (t0, t1): (f64, f64),
+    (whole, drive): (Load, Load),
+    (u_max, reg): (f64, f64),
+    elastic_depth: f64,
+    eta: f64,
+    parts: Option<&[(f64, f64)]>,
+) -> (Load, f64) {
     let sigma = motion.moving;
     let mut still_there = 1.0;
     if sigma > 0.0 && drive.force != Vector3::zeros() {
-        let (parts, np) = e.driving_parts(t0, t1);
-        if let Some(&(a, b)) = parts[..np]
+        let own;
+        let parts = match parts {
+            Some(p) => p,
+            None => {
+                own = e.driving_parts(t0, t1);
+                &own.0[..own.1]
+            }
+        };
+        if let Some(&(a, b)) = parts
             .iter()
             .max_by(|p, q| (p.1 - p.0).total_cmp(&(q.1 - q.0)))
         {
@@ -940,39 +1194,36 @@ pub fn contact(
             continue;
         };
         let step = num.arc_step_cells * cell / c.radius;
-        for (s, dir) in [(0usize, 1.0f64), (1, -1.0)] {
-            pair[s] = march(
-                map,
-                disc,
-                c.y,
-                c.radius,
-                theta0,
-                reach.min(std::f64::consts::PI),
-                dir,
-                step,
-                look,
-            );
-        }
+        *pair = march_both(
+            map,
+            disc,
+            c.y,
+            c.radius,
+            theta0,
+            reach.min(std::f64::consts::PI),
+            step,
+            look,
+        );
         rim_touches |= c.face == 0.0 && pair.iter().any(Option::is_some);
     }
     // the rim slices as the part of their strip that touches the rock
-    let walk_side = |y: f64, dir: f64| -> Option<Walk> {
+    let walk_at = |y: f64| -> [Option<Walk>; 2] {
         let rho = disc.rho(y);
-        let (theta0, reach) = disc.arc_below(y, rho, z_top)?;
+        let Some((theta0, reach)) = disc.arc_below(y, rho, z_top) else {
+            return [None, None];
+        };
         let step = num.arc_step_cells * cell / rho;
-        march(
+        march_both(
             map,
             disc,
             y,
             rho,
             theta0,
             reach.min(std::f64::consts::PI),
-            dir,
             step,
             look,
         )
     };
-    let walk_at = |y: f64| [walk_side(y, 1.0), walk_side(y, -1.0)];
     // (a disc at rest keeps the midpoint rule: lifted off its pit, the
     // circles that still touch alternate with the node rows, no single
     // edge; the rule blends in with the travel speed)
@@ -982,7 +1233,15 @@ pub fn contact(
             h,
             n,
             |k| walks[k].iter().any(Option::is_some),
-            |y| walk_side(y, 1.0).is_some() || walk_side(y, -1.0).is_some(),
+            |y| {
+                let rho = disc.rho(y);
+                disc.arc_below(y, rho, z_top)
+                    .is_some_and(|(theta0, reach)| {
+                        let step = num.arc_step_cells * cell / rho;
+                        let reach = reach.min(std::f64::consts::PI);
+                        march_touches(map, disc, y, rho, theta0, reach, step, look)
+                    })
+            },
             |y| {
                 let rho = disc.rho(y);
                 disc.arc_below(y, rho, z_top).is_none_or(|(theta0, _)| {
@@ -1037,11 +1296,15 @@ pub fn contact(
     }
     let mut lo = [0.0f64; 2];
     let mut hi = [0.0f64; 2];
-    for pair in walks.iter().take(nc) {
+    // (the rim's heights at each walk's ends are read once, for these
+    // bounds, `depth_to(b_in)` and `depth_bound`, and the unrefined ends)
+    for pair in walks.iter_mut().take(nc) {
         for s in 0..2 {
-            if let Some(w) = pair[s] {
-                lo[s] = lo[s].max(w.depth_to(disc, w.b_in.0));
-                hi[s] = hi[s].max(w.depth_bound(disc));
+            if let Some(w) = &mut pair[s] {
+                let z = w.end_heights(disc);
+                w.ends = Some(z);
+                lo[s] = lo[s].max((z.b_in - z.a).max(0.0));
+                hi[s] = hi[s].max((z.b_far - z.a).max(0.0));
             }
         }
     }
@@ -1052,19 +1315,30 @@ pub fn contact(
     let refine_side = [matters(0), matters(1)];
     // circles that may turn out deepest get the fine tolerance
     let deepest_lo = lo[0].max(lo[1]);
-    let finish_pair = |pair: &[Option<Walk>; 2]| -> [Option<Arc>; 2] {
-        let may_govern = pair
+    // (each arc with `sin_cos` of its ends, for its load)
+    let finish_pair = |pair: &[Option<Walk>; 2]| -> [Option<Finished>; 2] {
+        // (the samples of strips split below read their heights here)
+        let heights = |s: usize| pair[s].as_ref().map(|w| w.end_heights(disc));
+        let z = [heights(0), heights(1)];
+        // (`depth_bound`, from the heights)
+        let may_govern = z
             .iter()
             .flatten()
-            .any(|w| w.depth_bound(disc) >= deepest_lo);
+            .any(|z| (z.b_far - z.a).max(0.0) >= deepest_lo);
         let tol = if may_govern { ANGLE_TOL } else { LEAN_TOL };
-        [0, 1].map(|s| pair[s].map(|w| w.finish(map, disc, look, refine_side[s], tol)))
+        let finish = |s: usize| {
+            let z = z[s].unwrap_or_default();
+            pair[s]
+                .as_ref()
+                .map(|w| w.finish_from(map, disc, look, refine_side[s], tol, &z))
+        };
+        [finish(0), finish(1)]
     };
     // the rim slices' arcs first: a slice whose arc depth breaks with its
     // neighbours' (an arc end on an older groove's blurred wall or floor,
     // which moves steeply with the slice's place in its cell) is
     // integrated in thirds as well
-    let mut slice_arcs = [[None::<Arc>; 2]; 101];
+    let mut slice_arcs = [[None::<Finished>; 2]; 101];
     for (k, a) in slice_arcs.iter_mut().enumerate().take(n) {
         *a = finish_pair(&walks[k]);
     }
@@ -1073,7 +1347,7 @@ pub fn contact(
             slice_arcs[k]
                 .iter()
                 .flatten()
-                .map(|a| a.depth)
+                .map(|(a, _)| a.depth)
                 .fold(0.0, f64::max)
         };
         let profile = |k: usize| disc.radius - disc.rho(slice_y(h, n, k));
@@ -1114,8 +1388,12 @@ pub fn contact(
         } else {
             finish_pair(&walks[ci])
         };
+        // (the circle's element and where it drives once, for both sides)
+        let mut element = None;
         for s in 0..2 {
-            let Some(arc) = finished[s] else { continue };
+            let Some((arc, sc)) = finished[s] else {
+                continue;
+            };
             any = true;
             if c.face == 0.0 {
                 if ci >= n_main {
@@ -1125,20 +1403,25 @@ pub fn contact(
                     gov = Some((ci, arc.depth));
                 }
             }
-            let e = if c.face == 0.0 {
-                Element::rim(disc, c.y, c.width, &motion)
-            } else if c.flank {
-                Element::flank(disc, c.y, c.width, &motion)
+            let (e, driving) = *element.get_or_insert_with(|| {
+                let e = if c.face == 0.0 {
+                    Element::rim(disc, c.y, c.width, &motion)
+                } else if c.flank {
+                    Element::flank(disc, c.y, c.width, &motion)
+                } else {
+                    Element::ring(disc, c.face, c.radius, c.width, &motion)
+                };
+                (e, e.driving())
+            });
+            let (t0, t1, far_hi, sc01) = if arc.b >= arc.a {
+                (arc.a, arc.b, true, (sc[0], sc[1]))
             } else {
-                Element::ring(disc, c.face, c.radius, c.width, &motion)
+                (arc.b, arc.a, false, (sc[1], sc[0]))
             };
-            let (t0, t1, far_hi) = if arc.b >= arc.a {
-                (arc.a, arc.b, true)
-            } else {
-                (arc.b, arc.a, false)
-            };
-            let (whole, drive) = arc_load(&e, t0, t1, far_hi, psi);
-            let (load, eff) = arc_contribution(
+            // (the driving parts once, for the load and the still-there test)
+            let (parts, np) = e.driving_parts_on(driving, t0, t1);
+            let (whole, drive) = arc_load_in(&e, (t0, t1), sc01, far_hi, psi, &parts[..np]);
+            let (load, eff) = arc_contribution_in(
                 map,
                 &motion,
                 &e,
@@ -1147,6 +1430,7 @@ pub fn contact(
                 (arc.u_max, law.regularisation(arc.depth)),
                 elastic_depth,
                 eta,
+                Some(&parts[..np]),
             );
             // a slice that touches over part of its strip sets the depth
             // in proportion to that part, up to half its strip: a sliver of
@@ -1177,7 +1461,7 @@ pub fn contact(
     if let Some((kg, _)) = gov {
         let rim_arcs = |ci: usize| {
             if ci < n {
-                slice_arcs[ci]
+                slice_arcs[ci].map(|f| f.map(|(a, _)| a))
             } else {
                 sub_arcs[ci - n_main]
             }

@@ -83,8 +83,18 @@ impl Trig {
     /// `integral from t0 to t1`.
     #[inline]
     pub fn integral(&self, t0: f64, t1: f64) -> Vector3<f64> {
-        let (s0, c0) = t0.sin_cos();
-        let (s1, c1) = t1.sin_cos();
+        self.integral_sc(t0, t1, t0.sin_cos(), t1.sin_cos())
+    }
+
+    /// [`Trig::integral`] given `t0.sin_cos()` and `t1.sin_cos()`.
+    #[inline]
+    pub fn integral_sc(
+        &self,
+        t0: f64,
+        t1: f64,
+        (s0, c0): (f64, f64),
+        (s1, c1): (f64, f64),
+    ) -> Vector3<f64> {
         self.s * (c0 - c1) + self.c * (s1 - s0) + self.k * (t1 - t0)
     }
 }
@@ -118,6 +128,15 @@ impl std::ops::AddAssign for Load {
         self.force += o.force;
         self.moment += o.moment;
     }
+}
+
+/// Where a circle's surface drives into the rock ([`Element::driving`]):
+/// everywhere or nowhere (`All(drives)`), or within `h` of the angle `tm`
+/// (`About(tm, h)`, repeating every turn).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Driving {
+    All(bool),
+    About(f64, f64),
 }
 
 /// One circle of the disc's surface about the axle, with the densities of a
@@ -321,20 +340,37 @@ impl Element {
 
     /// The parts of `[lo, hi]` where `v_n > 0` (at most two intervals).
     pub fn driving_parts(&self, lo: f64, hi: f64) -> ([(f64, f64); 2], usize) {
-        let mut out = [(0.0, 0.0); 2];
-        let mut n = 0;
+        self.driving_parts_on(self.driving(), lo, hi)
+    }
+
+    /// Where on the whole circle `v_n > 0`, for [`Element::driving_parts_on`]
+    /// (which a caller with several arcs on one circle computes once).
+    pub fn driving(&self) -> Driving {
         let (a, b, c) = self.vn;
         let m = a.hypot(b);
         if m <= c.abs() + self.vn_eps {
-            if c > self.vn_eps && hi > lo {
-                out[0] = (lo, hi);
-                n = 1;
-            }
-            return (out, n);
+            return Driving::All(c > self.vn_eps);
         }
         // a sin + b cos = m cos(t - tm)
         let tm = a.atan2(b);
         let h = (-c / m).clamp(-1.0, 1.0).acos();
+        Driving::About(tm, h)
+    }
+
+    /// [`Element::driving_parts`] given [`Element::driving`].
+    pub fn driving_parts_on(&self, d: Driving, lo: f64, hi: f64) -> ([(f64, f64); 2], usize) {
+        let mut out = [(0.0, 0.0); 2];
+        let mut n = 0;
+        let (tm, h) = match d {
+            Driving::All(drives) => {
+                if drives && hi > lo {
+                    out[0] = (lo, hi);
+                    n = 1;
+                }
+                return (out, n);
+            }
+            Driving::About(tm, h) => (tm, h),
+        };
         let two_pi = 2.0 * std::f64::consts::PI;
         let k0 = ((0.5 * (lo + hi) - tm) / two_pi).round();
         for dk in [-1.0, 0.0, 1.0] {
@@ -384,21 +420,82 @@ fn gauss16() -> &'static [(f64, f64); 16] {
 /// end (the free surface) is `hi` when `far_hi`, split into the whole arc
 /// and its driving part.
 pub fn arc_load(e: &Element, lo: f64, hi: f64, far_hi: bool, psi: f64) -> (Load, Load) {
+    if psi != 0.0 {
+        return arc_load_quadrature(e, lo, hi, far_hi, psi, true);
+    }
     let (parts, n) = e.driving_parts(lo, hi);
+    arc_load_in(
+        e,
+        (lo, hi),
+        (lo.sin_cos(), hi.sin_cos()),
+        far_hi,
+        psi,
+        &parts[..n],
+    )
+}
+
+/// [`arc_load`] with the ends' `sin_cos` and the arc's driving parts
+/// given (`e.driving_parts(lo, hi)`), which a caller that needs them as
+/// well computes once (only the closed form of `psi = 0` reads them).
+pub fn arc_load_in(
+    e: &Element,
+    (lo, hi): (f64, f64),
+    (sc_lo, sc_hi): ((f64, f64), (f64, f64)),
+    far_hi: bool,
+    psi: f64,
+    parts: &[(f64, f64)],
+) -> (Load, Load) {
     if psi == 0.0 {
+        // (a driving part's end that is an end of the arc, bit for bit,
+        // reuses its sine and cosine)
+        let sc = |t: f64| {
+            if t.to_bits() == lo.to_bits() {
+                sc_lo
+            } else if t.to_bits() == hi.to_bits() {
+                sc_hi
+            } else {
+                t.sin_cos()
+            }
+        };
         let whole = Load {
-            force: e.force.integral(lo, hi),
-            moment: e.moment.integral(lo, hi),
+            force: e.force.integral_sc(lo, hi, sc_lo, sc_hi),
+            moment: e.moment.integral_sc(lo, hi, sc_lo, sc_hi),
         };
         let mut drive = Load::default();
-        for &(a, b) in &parts[..n] {
+        for &(a, b) in parts {
+            let (sa, sb) = (sc(a), sc(b));
             drive += Load {
-                force: e.force.integral(a, b),
-                moment: e.moment.integral(a, b),
+                force: e.force.integral_sc(a, b, sa, sb),
+                moment: e.moment.integral_sc(a, b, sa, sb),
             };
         }
         return (whole, drive);
     }
+    arc_load_quadrature(e, lo, hi, far_hi, psi, true)
+}
+
+/// The whole-arc part of [`arc_load`] alone.
+pub fn arc_load_whole(e: &Element, lo: f64, hi: f64, far_hi: bool, psi: f64) -> Load {
+    if psi == 0.0 {
+        let (sc_lo, sc_hi) = (lo.sin_cos(), hi.sin_cos());
+        return Load {
+            force: e.force.integral_sc(lo, hi, sc_lo, sc_hi),
+            moment: e.moment.integral_sc(lo, hi, sc_lo, sc_hi),
+        };
+    }
+    arc_load_quadrature(e, lo, hi, far_hi, psi, false).0
+}
+
+/// [`arc_load`] for `psi > 0`, by quadrature; the driving part only when
+/// `drive_too` (else zero).
+fn arc_load_quadrature(
+    e: &Element,
+    lo: f64,
+    hi: f64,
+    far_hi: bool,
+    psi: f64,
+    drive_too: bool,
+) -> (Load, Load) {
     // (u/L)^psi du with u from the far end = L/(1+psi) dv, u = L v^(1/(1+psi))
     let len = hi - lo;
     let ex = 1.0 / (1.0 + psi);
@@ -409,7 +506,7 @@ pub fn arc_load(e: &Element, lo: f64, hi: f64, far_hi: bool, psi: f64) -> (Load,
         let t = if far_hi { hi - u } else { lo + u };
         let l = e.load_at(t).scaled(w * scale);
         whole += l;
-        if e.vn_at(t) > e.vn_eps {
+        if drive_too && e.vn_at(t) > e.vn_eps {
             drive += l;
         }
     }
@@ -449,7 +546,7 @@ pub fn pressure_level(
         }
         let phi = ((rho - pk) / rho).clamp(-1.0, 1.0).acos();
         let e = Element::rim(disc, y, dy, &still);
-        let (whole, _) = arc_load(&e, 0.0, phi, true, psi);
+        let whole = arc_load_whole(&e, 0.0, phi, true, psi);
         let w = reg(pk);
         ir -= whole.force.x * w;
         inn += whole.force.z * w;

@@ -376,9 +376,12 @@ impl Grid {
         if !(u >= 0.0 && v >= 0.0 && u <= self.u_max && v <= self.v_max) {
             return None;
         }
-        let i = (u as usize).min(self.nx - 2);
-        let j = (v as usize).min(self.ny - 2);
-        Some((i, j, u - i as f64, v - j as f64))
+        // (in signed integers: `u` and `v` lie in [0, `u_max`] and [0,
+        // `v_max`] here, far below 2^53, where both conversions are exact
+        // and the signed ones take less code)
+        let i = (u as i64).min(self.nx as i64 - 2);
+        let j = (v as i64).min(self.ny as i64 - 2);
+        Some((i as usize, j as usize, u - i as f64, v - j as f64))
     }
 
     /// Area a node stands for (one cell).
@@ -656,6 +659,77 @@ impl HeightMap {
         }
     }
 
+    /// The heights of the four nodes of the cell whose lower-left node is
+    /// `(i, j)` (both inside the grid, `i + 1`, `j + 1` too): `[(i, j),
+    /// (i + 1, j), (i, j + 1), (i + 1, j + 1)]`, each as [`HeightMap::node`]
+    /// reads it. A cell inside one tile (all but the last row and column of
+    /// a tile's cells) looks its tile up once.
+    #[inline(always)]
+    fn cell_nodes(&self, i: usize, j: usize) -> [f64; 4] {
+        if i % TILE < TILE - 1 && j % TILE < TILE - 1 {
+            let (tj, ti, k) = self.tile_index(i, j);
+            match &self.rows[tj][ti] {
+                Some(tile) => {
+                    let z = &tile.d.z[k..k + TILE + 2];
+                    [z[0], z[1], z[TILE], z[TILE + 1]]
+                }
+                None => [self.z0; 4],
+            }
+        } else {
+            [
+                self.node(i, j),
+                self.node(i + 1, j),
+                self.node(i, j + 1),
+                self.node(i + 1, j + 1),
+            ]
+        }
+    }
+
+    /// Which of the four nodes of the cell at `(i, j)` (as
+    /// [`HeightMap::cell_nodes`]) a cut or a chip has lowered, a mask as
+    /// [`HeightMap::is_cut`] reads them:
+    /// bit 0 node `(i, j)`, 1 `(i + 1, j)`, 2 `(i, j + 1)`, 3 `(i + 1, j + 1)`.
+    #[inline(always)]
+    fn cell_cut(&self, i: usize, j: usize) -> u32 {
+        if i % TILE < TILE - 1 && j % TILE < TILE - 1 {
+            let (tj, ti, k) = self.tile_index(i, j);
+            match &self.rows[tj][ti] {
+                Some(tile) => {
+                    let bit = |k: usize| (tile.d.cut[k / 64] >> (k % 64) & 1) as u32;
+                    bit(k) | bit(k + 1) << 1 | bit(k + TILE) << 2 | bit(k + TILE + 1) << 3
+                }
+                None => 0,
+            }
+        } else {
+            self.is_cut(i, j) as u32
+                | (self.is_cut(i + 1, j) as u32) << 1
+                | (self.is_cut(i, j + 1) as u32) << 2
+                | (self.is_cut(i + 1, j + 1) as u32) << 3
+        }
+    }
+
+    /// [`HeightMap::cell_nodes`] and [`HeightMap::cell_cut`] from one tile
+    /// lookup.
+    #[inline(always)]
+    fn cell_nodes_cut(&self, i: usize, j: usize) -> ([f64; 4], u32) {
+        if i % TILE < TILE - 1 && j % TILE < TILE - 1 {
+            let (tj, ti, k) = self.tile_index(i, j);
+            match &self.rows[tj][ti] {
+                Some(tile) => {
+                    let z = &tile.d.z[k..k + TILE + 2];
+                    let bit = |k: usize| (tile.d.cut[k / 64] >> (k % 64) & 1) as u32;
+                    (
+                        [z[0], z[1], z[TILE], z[TILE + 1]],
+                        bit(k) | bit(k + 1) << 1 | bit(k + TILE) << 2 | bit(k + TILE + 1) << 3,
+                    )
+                }
+                None => ([self.z0; 4], 0),
+            }
+        } else {
+            (self.cell_nodes(i, j), self.cell_cut(i, j))
+        }
+    }
+
     /// An upper bound of the node heights with indices in the given ranges.
     pub fn max_height(&self, i0: usize, i1: usize, j0: usize, j1: usize) -> f64 {
         let mut m = NO_ROCK;
@@ -680,13 +754,10 @@ impl HeightMap {
     pub fn point(&self, x: f64, y: f64) -> Option<SurfacePoint> {
         let g = &self.grid;
         let (i, j, fu, fv) = g.cell(x, y)?;
-        let z00 = self.node(i, j);
-        let z11 = self.node(i + 1, j + 1);
+        let [z00, z10, z01, z11] = self.cell_nodes(i, j);
         let (dzdx, dzdy) = if fu >= fv {
-            let z10 = self.node(i + 1, j);
             ((z10 - z00) / g.dx, (z11 - z10) / g.dy)
         } else {
-            let z01 = self.node(i, j + 1);
             ((z11 - z01) / g.dx, (z01 - z00) / g.dy)
         };
         Some(SurfacePoint {
@@ -716,20 +787,26 @@ impl HeightMap {
         let Some((i, j, fu, fv)) = self.grid.cell(x, y) else {
             return NO_ROCK;
         };
-        let a = self.node(i, j) + (self.node(i + 1, j) - self.node(i, j)) * fu;
-        let b = self.node(i, j + 1) + (self.node(i + 1, j + 1) - self.node(i, j + 1)) * fu;
-        a + (b - a) * fv
+        bilerp(self.cell_nodes(i, j), fu, fv)
+    }
+
+    /// [`HeightMap::bilinear`] and [`HeightMap::any_uncut`] at one point,
+    /// the cell looked up once.
+    #[inline]
+    pub fn bilinear_any_uncut(&self, x: f64, y: f64) -> (f64, bool) {
+        let Some((i, j, fu, fv)) = self.grid.cell(x, y) else {
+            return (NO_ROCK, false);
+        };
+        let (z, cut) = self.cell_nodes_cut(i, j);
+        (bilerp(z, fu, fv), cut != 0b1111)
     }
 
     /// Does the cell holding `(x, y)` have a node no cut has lowered?
     #[inline]
     pub fn any_uncut(&self, x: f64, y: f64) -> bool {
-        self.grid.cell(x, y).is_some_and(|(i, j, _, _)| {
-            !(self.is_cut(i, j)
-                && self.is_cut(i + 1, j)
-                && self.is_cut(i, j + 1)
-                && self.is_cut(i + 1, j + 1))
-        })
+        self.grid
+            .cell(x, y)
+            .is_some_and(|(i, j, _, _)| self.cell_cut(i, j) != 0b1111)
     }
 
     /// Bilinear height of the cell holding `(x, y)` when no cut has lowered
@@ -738,38 +815,21 @@ impl HeightMap {
     #[inline]
     pub fn bilinear_uncut(&self, x: f64, y: f64) -> Option<f64> {
         let (i, j, fu, fv) = self.grid.cell(x, y)?;
-        if self.is_cut(i, j)
-            || self.is_cut(i + 1, j)
-            || self.is_cut(i, j + 1)
-            || self.is_cut(i + 1, j + 1)
-        {
-            return None;
-        }
-        let z = [
-            self.node(i, j),
-            self.node(i + 1, j),
-            self.node(i, j + 1),
-            self.node(i + 1, j + 1),
-        ];
-        let a = z[0] + (z[1] - z[0]) * fu;
-        let b = z[2] + (z[3] - z[2]) * fu;
-        Some(a + (b - a) * fv)
+        let (z, cut) = self.cell_nodes_cut(i, j);
+        (cut == 0).then(|| bilerp(z, fu, fv))
     }
 
     /// Surface height at `(x, y)`, [`NO_ROCK`] outside the map (the same
     /// triangles as [`HeightMap::point`], without the slopes).
-    #[inline]
+    #[inline(always)]
     pub fn height(&self, x: f64, y: f64) -> f64 {
         let Some((i, j, fu, fv)) = self.grid.cell(x, y) else {
             return NO_ROCK;
         };
-        let z00 = self.node(i, j);
-        let z11 = self.node(i + 1, j + 1);
+        let [z00, z10, z01, z11] = self.cell_nodes(i, j);
         if fu >= fv {
-            let z10 = self.node(i + 1, j);
             z00 + (z10 - z00) * fu + (z11 - z10) * fv
         } else {
-            let z01 = self.node(i, j + 1);
             z00 + (z11 - z01) * fu + (z01 - z00) * fv
         }
     }
@@ -850,6 +910,15 @@ impl HeightMap {
         *self.slot_mut(k / self.tiles_x, k % self.tiles_x) = Some(Tile { d, z_max });
         Some(())
     }
+}
+
+/// Bilinear interpolation of a cell's node heights `[z00, z10, z01, z11]`
+/// at `(fu, fv)` in cell units.
+#[inline]
+fn bilerp([z00, z10, z01, z11]: [f64; 4], fu: f64, fv: f64) -> f64 {
+    let a = z00 + (z10 - z00) * fu;
+    let b = z01 + (z11 - z01) * fu;
+    a + (b - a) * fv
 }
 
 #[cfg(test)]

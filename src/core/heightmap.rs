@@ -126,7 +126,7 @@ impl<'a> Slot<'a> for &'a mut Option<Tile> {
 
 /// A slot of a map's row of tiles, which may be shared with a snapshot.
 struct RowSlot<'a> {
-    row: &'a mut Arc<Vec<Option<Tile>>>,
+    row: &'a mut Arc<[Option<Tile>]>,
     ti: usize,
 }
 
@@ -155,14 +155,18 @@ fn lower_run<'a>(
 ) {
     let mut k = k0;
     let end = k0 + n;
-    let first = loop {
-        if k == end {
-            return;
-        }
-        let z = slot.read().as_ref().map_or(z0, |t| t.d.z[k]);
-        k += 1;
-        if let Some(nz) = f(z) {
-            break nz;
+    let first = {
+        // the tile's heights, looked up once for the read-only stretch
+        let heights = slot.read().as_ref().map(|t| &t.d.z);
+        loop {
+            if k == end {
+                return;
+            }
+            let z = heights.map_or(z0, |h| h[k]);
+            k += 1;
+            if let Some(nz) = f(z) {
+                break nz;
+            }
         }
     };
     let (tile, allocated) = Tile::for_writing(slot.write(), z0);
@@ -399,7 +403,7 @@ pub struct HeightMap {
     tiles_y: usize,
     /// The tile directory, a row of tiles (`tiles_x` of them) per `Arc`:
     /// tile `t` is `rows[t / tiles_x][t % tiles_x]`.
-    rows: Vec<Arc<Vec<Option<Tile>>>>,
+    rows: Vec<Arc<[Option<Tile>]>>,
     /// While a change may still be rolled back: what it wrote over. Kept
     /// between changes (empty) so that its buffers are reused.
     undo: Undo,
@@ -444,7 +448,7 @@ impl HeightMap {
             tiles_y,
             // every row the same empty one: a write unshares its row
             #[allow(clippy::rc_clone_in_vec_init)]
-            rows: vec![Arc::new(vec![None; tiles_x]); tiles_y],
+            rows: vec![Arc::from(vec![None; tiles_x]); tiles_y],
             undo: Undo::default(),
         }
     }
@@ -621,7 +625,7 @@ impl HeightMap {
             if runs.peek().is_none_or(|r| r.0 != tj) {
                 continue;
             }
-            let mut rest: &mut [Option<Tile>] = Arc::make_mut(row).as_mut_slice();
+            let mut rest: &mut [Option<Tile>] = Arc::make_mut(row);
             let mut at = 0;
             while let Some((_, start, len, r)) = runs.next_if(|r| r.0 == tj) {
                 if start < at {

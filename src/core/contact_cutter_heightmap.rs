@@ -370,71 +370,99 @@ impl Walk {
     }
 }
 
-/// Marches one side (`dir` = +1 towards cutter +x) of one slice from the
-/// lowest point `theta0` up to `theta0 + dir * reach`, in steps of about
-/// `step`, and brackets the contact arc's ends.
-#[allow(clippy::too_many_arguments)]
-pub fn march(
-    map: &HeightMap,
-    disc: &PosedDisc,
+/// One rim circle to walk (a tip slice, a side-face ring or a flank band):
+/// the circle at axle coordinate `y` of radius `radius`, from its lowest
+/// point `theta0` up to `reach` (at most half a turn) either way, in steps
+/// of about `step` rad, looking `look` ahead.
+#[derive(Debug, Clone, Copy)]
+struct SliceWalk {
     y: f64,
     radius: f64,
     theta0: f64,
     reach: f64,
-    dir: f64,
     step: f64,
     look: f64,
-) -> Option<Walk> {
-    let rim = RimCircle::new(disc, y, radius);
-    let (s, c) = theta0.sin_cos();
-    let here0 = rim.overlap_here(map, s, c);
-    march_from(
-        map,
-        &rim,
-        (y, radius),
-        (theta0, s, c),
-        here0,
-        reach,
-        dir,
-        step,
-        look,
-    )
 }
 
-/// [`march`] on both sides (`dir` = +1, then -1): the circle, the lowest
-/// point's sine and cosine and the rock over it read once.
-#[allow(clippy::too_many_arguments)]
-fn march_both(
-    map: &HeightMap,
-    disc: &PosedDisc,
-    y: f64,
-    radius: f64,
-    theta0: f64,
-    reach: f64,
-    step: f64,
-    look: f64,
-) -> [Option<Walk>; 2] {
-    let rim = RimCircle::new(disc, y, radius);
-    let (s, c) = theta0.sin_cos();
-    let here0 = rim.overlap_here(map, s, c);
-    let side = |dir: f64| {
-        march_from(
-            map,
-            &rim,
-            (y, radius),
-            (theta0, s, c),
-            here0,
-            reach,
-            dir,
-            step,
+impl SliceWalk {
+    /// The walk of the circle `(y, radius)` over the part of it below
+    /// `z_top`, in steps of about `step_len` of rim; `None` when none is.
+    fn below(
+        disc: &PosedDisc,
+        (y, radius): (f64, f64),
+        z_top: f64,
+        step_len: f64,
+        look: f64,
+    ) -> Option<Self> {
+        let (theta0, reach) = disc.arc_below(y, radius, z_top)?;
+        Some(Self {
+            y,
+            radius,
+            theta0,
+            reach: reach.min(std::f64::consts::PI),
+            step: step_len / radius,
             look,
-        )
-    };
-    [side(1.0), side(-1.0)]
+        })
+    }
+
+    /// The circle, its lowest point's sine and cosine, and the rock over it.
+    fn start(&self, map: &HeightMap, disc: &PosedDisc) -> (RimCircle, f64, f64, f64) {
+        let rim = RimCircle::new(disc, self.y, self.radius);
+        let (s, c) = self.theta0.sin_cos();
+        let here0 = rim.overlap_here(map, s, c);
+        (rim, s, c, here0)
+    }
+
+    /// Marches both sides (`dir` = +1 towards cutter +x, then -1) and
+    /// brackets each contact arc's ends: the circle, the lowest point's sine
+    /// and cosine and the rock over it read once.
+    fn march_both(&self, map: &HeightMap, disc: &PosedDisc) -> [Option<Walk>; 2] {
+        let (rim, s, c, here0) = self.start(map, disc);
+        let side = |dir: f64| {
+            march_from(
+                map,
+                &rim,
+                (self.y, self.radius),
+                (self.theta0, s, c),
+                here0,
+                self.reach,
+                dir,
+                self.step,
+                self.look,
+            )
+        };
+        [side(1.0), side(-1.0)]
+    }
+
+    /// Whether [`SliceWalk::march_both`] finds a contact on either side
+    /// (either walk `is_some()`), without walking the arcs.
+    fn touches(&self, map: &HeightMap, disc: &PosedDisc) -> bool {
+        let (rim, s, c, here0) = self.start(map, disc);
+        if here0 > 0.0 {
+            return true;
+        }
+        let n = ((self.reach / self.step).ceil() as usize).max(1);
+        [1.0, -1.0].into_iter().any(|dir| {
+            let dt = dir * self.reach / n as f64;
+            find_start(
+                map,
+                &rim,
+                self.radius,
+                (self.theta0, s, c),
+                here0,
+                self.reach,
+                dir,
+                dt,
+                self.look,
+            )
+            .is_some()
+        })
+    }
 }
 
-/// [`march`] on the circle `rim` (`(y, radius)`) from `theta0` (sine `s0`,
-/// cosine `c0`), where the rock over the rim is `here0`.
+/// One side (`dir`) of [`SliceWalk::march_both`] on the circle `rim` (`(y, radius)`)
+/// from `theta0` (sine `s0`, cosine `c0`), where the rock over the rim is
+/// `here0`.
 ///
 /// (Until the start is found only the rock over the rim itself is read:
 /// where it is positive the look-ahead is that same value, see
@@ -590,43 +618,6 @@ fn find_start(
         }
     }
     found
-}
-
-/// Whether [`march`] finds a contact on either side (`march(..).is_some()`
-/// for `dir` = +1 or -1), without walking the arcs.
-#[allow(clippy::too_many_arguments)]
-fn march_touches(
-    map: &HeightMap,
-    disc: &PosedDisc,
-    y: f64,
-    radius: f64,
-    theta0: f64,
-    reach: f64,
-    step: f64,
-    look: f64,
-) -> bool {
-    let rim = RimCircle::new(disc, y, radius);
-    let (s, c) = theta0.sin_cos();
-    let here0 = rim.overlap_here(map, s, c);
-    if here0 > 0.0 {
-        return true;
-    }
-    let n = ((reach / step).ceil() as usize).max(1);
-    [1.0, -1.0].into_iter().any(|dir| {
-        let dt = dir * reach / n as f64;
-        find_start(
-            map,
-            &rim,
-            radius,
-            (theta0, s, c),
-            here0,
-            reach,
-            dir,
-            dt,
-            look,
-        )
-        .is_some()
-    })
 }
 
 /// Turns the rim angle whose sine and cosine are `(s, c)` by the angle
@@ -1185,44 +1176,22 @@ pub fn contact(
     // per circle, both sides: march first, then refine the ends of the arcs
     // on every side whose weight in the blend can matter
     let mut walks = [[None::<Walk>; 2]; MAX_CIRCLES];
+    let step_len = num.arc_step_cells * cell;
     let mut rim_touches = false;
     for (c, pair) in circles[..nc].iter().zip(walks.iter_mut()) {
         if c.face != 0.0 && !c.flank && rings_idle && rim_touches {
             continue;
         }
-        let Some((theta0, reach)) = disc.arc_below(c.y, c.radius, z_top) else {
+        let Some(w) = SliceWalk::below(disc, (c.y, c.radius), z_top, step_len, look) else {
             continue;
         };
-        let step = num.arc_step_cells * cell / c.radius;
-        *pair = march_both(
-            map,
-            disc,
-            c.y,
-            c.radius,
-            theta0,
-            reach.min(std::f64::consts::PI),
-            step,
-            look,
-        );
+        *pair = w.march_both(map, disc);
         rim_touches |= c.face == 0.0 && pair.iter().any(Option::is_some);
     }
     // the rim slices as the part of their strip that touches the rock
     let walk_at = |y: f64| -> [Option<Walk>; 2] {
-        let rho = disc.rho(y);
-        let Some((theta0, reach)) = disc.arc_below(y, rho, z_top) else {
-            return [None, None];
-        };
-        let step = num.arc_step_cells * cell / rho;
-        march_both(
-            map,
-            disc,
-            y,
-            rho,
-            theta0,
-            reach.min(std::f64::consts::PI),
-            step,
-            look,
-        )
+        SliceWalk::below(disc, (y, disc.rho(y)), z_top, step_len, look)
+            .map_or([None, None], |w| w.march_both(map, disc))
     };
     // (a disc at rest keeps the midpoint rule: lifted off its pit, the
     // circles that still touch alternate with the node rows, no single
@@ -1234,13 +1203,8 @@ pub fn contact(
             n,
             |k| walks[k].iter().any(Option::is_some),
             |y| {
-                let rho = disc.rho(y);
-                disc.arc_below(y, rho, z_top)
-                    .is_some_and(|(theta0, reach)| {
-                        let step = num.arc_step_cells * cell / rho;
-                        let reach = reach.min(std::f64::consts::PI);
-                        march_touches(map, disc, y, rho, theta0, reach, step, look)
-                    })
+                SliceWalk::below(disc, (y, disc.rho(y)), z_top, step_len, look)
+                    .is_some_and(|w| w.touches(map, disc))
             },
             |y| {
                 let rho = disc.rho(y);

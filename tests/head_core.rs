@@ -262,6 +262,42 @@ fn one_disc_head_is_kerf_model() {
     }
 }
 
+/// The same in Model Exchange: a one-disc head's commits are kerf.fmu's,
+/// the cutting energy included (the trapezoid between the outputs after the
+/// last commit and after this one), with the host evaluating other poses
+/// between the events as an integrator does.
+#[test]
+fn one_disc_head_commits_as_kerf_model() {
+    let p = params(0.4);
+    let mut spec = disc(0.0, 0.0, 0.0);
+    spec.cutter = p.cutter;
+    spec.spacing = p.csm.spacing;
+    let mut head = Head::new(p.clone(), vec![spec]).unwrap();
+    let mut model = Model::new(p).unwrap();
+    let twist = Twist::new([1.0, 0.0, 0.0], [0.0, 1.0 / 0.2159, 0.0]);
+    let at = |x: f64| Pose::new(x, 0.0, 0.2121, 0.0, 0.0, 0.0);
+    let mut x = -0.2;
+    for k in 0..40 {
+        // events 1.5 to 3.4 mm apart: one to four sub-steps
+        let dx = 1.5e-3 + 5e-5 * k as f64;
+        for probe in [0.3, 0.7] {
+            let q = at(x + probe * dx);
+            model.evaluate(&q, &twist).unwrap();
+            head.evaluate_discs(&[(q, twist)]).unwrap();
+        }
+        x += dx;
+        let cm = model.commit(&at(x), &twist, dx).unwrap();
+        let ch = head.commit(&[(at(x), twist)], dx).unwrap();
+        assert_eq!(cm, ch);
+        let om = model.evaluate(&at(x), &twist).unwrap();
+        let oh = head.evaluate_discs(&[(at(x), twist)]).unwrap();
+        assert_eq!(om.force, oh.discs[0].force);
+        assert_eq!(om.excavated_volume, oh.excavated_volume);
+        assert_eq!(om.cutting_energy.to_bits(), oh.cutting_energy.to_bits());
+    }
+    assert!(model.evaluate(&at(x), &twist).unwrap().cutting_energy > 0.0);
+}
+
 /// Depth each disc cut on its last pass: the groove bottom (at the track)
 /// just ahead of the disc less just behind it, `delta` rad either side.
 fn cut_depths(head: &Head, pose: &Pose, delta: f64) -> Vec<f64> {

@@ -248,15 +248,16 @@ fn model_exchange_events_cut_what_co_simulation_cuts() {
     let (e_me, e_cs) = (me.real("cuttingEnergy"), cs.real("cuttingEnergy"));
     assert!(v_cs > 0.0 && e_cs > 0.0);
     // ME cuts along chords of a sweep step between events, CS along the
-    // arc, and books the energy at the end of each path (the head's commit
-    // rule; 1.7 % high here, less as the run gets longer): the same volume
-    // within 0.1 %, the same energy within 3 %
+    // arc; both book the energy by the trapezoid over each path (kerf.fmu's
+    // commit rule; ME measured 0.07 % high here, it was 1.7 % when the
+    // head's commits booked the end of each path): the same volume within
+    // 0.1 %, the same energy within 0.3 %
     assert!(
         (v_me / v_cs - 1.0).abs() < 1e-3,
         "volume {v_me} against {v_cs}"
     );
     assert!(
-        (e_me / e_cs - 1.0).abs() < 0.03,
+        (e_me / e_cs - 1.0).abs() < 3e-3,
         "energy {e_me} against {e_cs}"
     );
 }

@@ -40,6 +40,10 @@ pub struct Disc {
     /// The last evaluation (pose, twist, relieved, outputs without
     /// bookkeeping); cleared whenever the face changes.
     cache: Cell<Option<(Pose, Twist, bool, Outputs)>>,
+    /// The evaluation right after the last Model Exchange commit, at the
+    /// pose it cut to ([`commit_paths`] books the next commit's energy from
+    /// it); cleared with `cache`.
+    after_commit: Cell<Option<(Pose, Twist, bool, Outputs)>>,
 }
 
 impl Clone for Disc {
@@ -49,6 +53,7 @@ impl Clone for Disc {
             plain: self.plain,
             relieved: self.relieved,
             cache: Cell::new(None),
+            after_commit: Cell::new(None),
         }
     }
 }
@@ -92,6 +97,7 @@ impl Disc {
             plain: CsmLaw::new(cutter, csm, p_reg),
             relieved: CsmLaw::scaled(cutter, csm, p_reg, pressure_scale),
             cache: Cell::new(None),
+            after_commit: Cell::new(None),
         }
     }
 
@@ -185,9 +191,26 @@ impl Disc {
         o
     }
 
-    /// Drops the cached evaluation (the face changed).
+    /// Drops the cached evaluations (the face changed).
     pub fn forget(&self) {
         self.cache.set(None);
+        self.after_commit.set(None);
+    }
+
+    /// [`Disc::evaluate`] at `pose`, through the evaluation kept from the
+    /// last commit when that commit cut to `pose` with `twist`.
+    fn evaluate_after_commit(
+        &self,
+        map: &HeightMap,
+        state: &DiscState,
+        pose: &Pose,
+        twist: &Twist,
+        params: &Params,
+    ) -> Outputs {
+        match self.after_commit.get() {
+            Some((p, t, r, o)) if p == *pose && t == *twist && r == state.chips.relieved() => o,
+            _ => self.evaluate(map, state, pose, twist, params),
+        }
     }
 
     /// Would a cut at `pose` change the face?
@@ -319,7 +342,10 @@ type Path = (Pose, UnitQuaternion<f64>, UnitQuaternion<f64>);
 /// cut. All discs advance sub-step by sub-step, cutting in their order.
 /// Returns whether the face changed. The motions must have been validated.
 /// All or nothing: every pose it will cut at is checked first, and a call
-/// that returns an error has changed nothing.
+/// that returns an error has changed nothing. The cutting energy takes
+/// kerf.fmu's trapezoid (`Model::commit`): half the work of the outputs
+/// after the last commit plus half that of the outputs after this one, over
+/// `dt`; the first commit books the latter alone.
 pub fn commit_paths(
     face: &mut Face,
     discs: &mut [Disc],
@@ -354,11 +380,11 @@ pub fn commit_paths(
         .zip(discs.iter())
         .map(|((plan, (pose, _)), d)| {
             plan.as_ref().map_or(1, |(prev, q0, q1)| {
+                // kerf.fmu's count (`Model::commit`): the same rim travel,
+                // the same forgiving of round-off
                 let travel =
                     (pose.position - prev.position).norm() + q0.angle_to(q1) * d.cutter.radius;
-                (travel / params.numerics.sweep_step)
-                    .ceil()
-                    .clamp(1.0, 1.0e6) as usize
+                steps_for(travel, params.numerics.sweep_step).min(1.0e7) as usize
             })
         })
         .collect();
@@ -386,16 +412,36 @@ pub fn commit_paths(
     let groups = time_groups(&counts);
     check_poses(&groups, at)?;
     // nothing fails from here on: the commit is all or nothing
-    let outputs = evaluate_all(discs, states, &face.map, motions, params);
-    for (o, (_, twist)) in outputs.iter().zip(motions) {
-        face.cutting_energy += o.work_on_rock(twist, dt);
-    }
+    // the energy takes kerf.fmu's trapezoid between the outputs after the
+    // last commit (each disc at its last cut, on the face that commit left)
+    // and those after this one
+    let before: Vec<Option<Outputs>> = discs
+        .par_iter_mut()
+        .zip(states.par_iter())
+        .zip(motions.par_iter())
+        .map(|((d, s), (_, twist))| {
+            s.last_cut
+                .map(|prev| d.evaluate_after_commit(&face.map, s, &prev, twist, params))
+        })
+        .collect();
     let (changed, _) = cut_in_time_order(face, discs, states, params, &groups, at)?;
     for (s, (pose, _)) in states.iter_mut().zip(motions) {
         s.last_cut = Some(*pose);
     }
     if changed {
         discs.iter().for_each(Disc::forget);
+    }
+    let after = evaluate_all(discs, states, &face.map, motions, params);
+    for (i, (pose, twist)) in motions.iter().enumerate() {
+        let a = after[i].work_on_rock(twist, dt);
+        face.cutting_energy += match &before[i] {
+            Some(b) => 0.5 * (b.work_on_rock(twist, dt) + a),
+            None => a,
+        };
+        let relieved = states[i].chips.relieved();
+        discs[i]
+            .after_commit
+            .set(Some((*pose, *twist, relieved, after[i])));
     }
     Ok(changed)
 }

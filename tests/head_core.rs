@@ -238,15 +238,23 @@ fn head_drive_and_disc_drive_agree() {
     );
 }
 
-#[test]
-fn one_disc_head_is_kerf_model() {
-    // a one-disc head in the disc drive is kerf.fmu's Model, bit for bit
+/// A head of one disc at the head origin and kerf.fmu's Model of the same
+/// disc, rock and parameters.
+fn one_disc_head_and_model() -> (Head, Model) {
     let p = params(0.4);
     let mut spec = disc(0.0, 0.0, 0.0);
     spec.cutter = p.cutter;
     spec.spacing = p.csm.spacing;
-    let mut head = Head::new(p.clone(), vec![spec]).unwrap();
-    let mut model = Model::new(p).unwrap();
+    (
+        Head::new(p.clone(), vec![spec]).unwrap(),
+        Model::new(p).unwrap(),
+    )
+}
+
+#[test]
+fn one_disc_head_is_kerf_model() {
+    // a one-disc head in the disc drive is kerf.fmu's Model, bit for bit
+    let (mut head, mut model) = one_disc_head_and_model();
     let mut pose = Pose::new(-0.2, 0.0, 0.2121, 0.0, 0.0, 0.0);
     let twist = Twist::new([1.0, 0.0, 0.0], [0.0, 1.0 / 0.2159, 0.0]);
     for _ in 0..50 {
@@ -268,12 +276,7 @@ fn one_disc_head_is_kerf_model() {
 /// between the events as an integrator does.
 #[test]
 fn one_disc_head_commits_as_kerf_model() {
-    let p = params(0.4);
-    let mut spec = disc(0.0, 0.0, 0.0);
-    spec.cutter = p.cutter;
-    spec.spacing = p.csm.spacing;
-    let mut head = Head::new(p.clone(), vec![spec]).unwrap();
-    let mut model = Model::new(p).unwrap();
+    let (mut head, mut model) = one_disc_head_and_model();
     let twist = Twist::new([1.0, 0.0, 0.0], [0.0, 1.0 / 0.2159, 0.0]);
     let at = |x: f64| Pose::new(x, 0.0, 0.2121, 0.0, 0.0, 0.0);
     let mut x = -0.2;

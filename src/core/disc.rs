@@ -39,11 +39,11 @@ pub struct Disc {
     relieved: CsmLaw,
     /// The last evaluation (pose, twist, relieved, outputs without
     /// bookkeeping); cleared whenever the face changes.
-    cache: Cell<Option<(Pose, Twist, bool, Outputs)>>,
+    cache: Kept,
     /// The evaluation right after the last Model Exchange commit, at the
     /// pose it cut to ([`commit_paths`] books the next commit's energy from
     /// it); cleared with `cache`.
-    after_commit: Cell<Option<(Pose, Twist, bool, Outputs)>>,
+    after_commit: Kept,
 }
 
 impl Clone for Disc {
@@ -56,6 +56,15 @@ impl Clone for Disc {
             after_commit: Cell::new(None),
         }
     }
+}
+
+/// A kept evaluation: (pose, twist, whether the pass was relieved, outputs).
+type Kept = Cell<Option<(Pose, Twist, bool, Outputs)>>;
+
+/// The outputs `kept` holds for `key` (pose, twist, relieved), if it does.
+fn cached(kept: &Kept, key: &(Pose, Twist, bool)) -> Option<Outputs> {
+    kept.get()
+        .and_then(|(p, t, r, o)| (p == key.0 && t == key.1 && r == key.2).then_some(o))
 }
 
 /// The discrete state of one disc.
@@ -180,14 +189,12 @@ impl Disc {
         twist: &Twist,
         params: &Params,
     ) -> Outputs {
-        let relieved = state.chips.relieved();
-        if let Some((p, t, r, o)) = self.cache.get() {
-            if p == *pose && t == *twist && r == relieved {
-                return o;
-            }
+        let key = (*pose, *twist, state.chips.relieved());
+        if let Some(o) = cached(&self.cache, &key) {
+            return o;
         }
         let o = self.compute(map, state, pose, twist, params);
-        self.cache.set(Some((*pose, *twist, relieved, o)));
+        self.cache.set(Some((key.0, key.1, key.2, o)));
         o
     }
 
@@ -207,10 +214,8 @@ impl Disc {
         twist: &Twist,
         params: &Params,
     ) -> Outputs {
-        match self.after_commit.get() {
-            Some((p, t, r, o)) if p == *pose && t == *twist && r == state.chips.relieved() => o,
-            _ => self.evaluate(map, state, pose, twist, params),
-        }
+        cached(&self.after_commit, &(*pose, *twist, state.chips.relieved()))
+            .unwrap_or_else(|| self.evaluate(map, state, pose, twist, params))
     }
 
     /// Would a cut at `pose` change the face?

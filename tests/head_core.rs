@@ -573,6 +573,39 @@ fn a_step_whose_path_leaves_the_bounds_is_refused_whole() {
     assert_eq!(head.state().to_bytes(), before);
 }
 
+/// A call whose cuts would scan more nodes than kerf.fmu may in one call
+/// for each disc (here every disc pushed 0.15 m into the rock and run 0.3 m
+/// in one step, the tilted one counting each node 50 times) is refused
+/// before anything changes, naming the split; so is a Model Exchange
+/// commit along such paths. (Before, a head bounded only its sub-steps.)
+#[test]
+fn a_step_that_would_scan_too_many_nodes_is_refused_untouched() {
+    let mut head = small_head();
+    let start = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    let mut motions = head.place(&start, &Twist::default());
+    for (p, t) in motions.iter_mut() {
+        p.position.z -= 0.15;
+        *t = Twist::new([1.0, 0.0, 0.0], [0.0, 0.0, 0.0]);
+    }
+    let before = head.state().to_bytes();
+    let e = head.advance_discs(&motions, 0.3).unwrap_err().to_string();
+    assert!(
+        e.contains("height-map nodes") && e.contains("split it into at least"),
+        "{e}"
+    );
+    assert_eq!(head.state().to_bytes(), before);
+    // the Model Exchange commit of the same paths is refused alike
+    head.commit(&motions, 1e-3).unwrap();
+    let before = head.state().to_bytes();
+    let mut later = motions.clone();
+    for (p, _) in later.iter_mut() {
+        p.position.x += 0.2;
+    }
+    let e = head.commit(&later, 0.2).unwrap_err().to_string();
+    assert!(e.contains("height-map nodes"), "{e}");
+    assert_eq!(head.state().to_bytes(), before);
+}
+
 /// A host that steps a head by hours is refused before anything changes,
 /// with the split that fits, in both drives and in a Model Exchange commit;
 /// the step the message names then runs.

@@ -25,7 +25,11 @@ use super::cutter::PosedDisc;
 use super::error::Result;
 use super::face::Face;
 use super::heightmap::{HeightMap, TileRect};
-use super::model::{bound_sub_steps, check_interval, friction_force, steps_for, Outputs};
+use super::model::{
+    bound_sub_steps, bound_visits, check_interval, cut_visits, friction_force, most_visits_per_cut,
+    steps_for, Outputs,
+};
+use super::params::MAX_NODE_VISITS_PER_CALL;
 use super::params::{CsmParams, CutterParams, DirectionRule, Params};
 use super::pose::{Pose, Twist};
 
@@ -416,6 +420,8 @@ pub fn commit_paths(
     };
     let groups = time_groups(&counts);
     check_poses(&groups, at)?;
+    let what = "the event's paths since the last commit";
+    check_visits(&face.map, discs, &groups, at, what, dt)?;
     // nothing fails from here on: the commit is all or nothing
     // the energy takes kerf.fmu's trapezoid between the outputs after the
     // last commit (each disc at its last cut, on the face that commit left)
@@ -505,6 +511,45 @@ fn check_poses(
     Ok(())
 }
 
+/// Refuses, before anything changes, a call whose cuts would scan more
+/// height-map nodes than kerf.fmu may in one call for each disc
+/// (`MAX_NODE_VISITS_PER_CALL` times the number of discs; a tilted disc's
+/// node counts `TILTED_NODE_WEIGHT`, as `Model` counts them), naming the
+/// split that would fit. The windows are counted only when the discs'
+/// reach does not bound the work already (a head's 1 ms step never needs
+/// them: 78 cuts of the reference head may make at most 9e8 visits against
+/// its budget of 2.8e9). `at` as in [`check_poses`]; `what` and `span`
+/// name the call.
+fn check_visits(
+    map: &HeightMap,
+    discs: &[Disc],
+    groups: &[(usize, usize, Vec<usize>)],
+    mut at: impl FnMut(usize, usize) -> Result<Vec<(Pose, Twist)>>,
+    what: &str,
+    span: f64,
+) -> Result<()> {
+    let budget = MAX_NODE_VISITS_PER_CALL * discs.len() as f64;
+    let most: Vec<f64> = discs
+        .iter()
+        .map(|d| most_visits_per_cut(d.cutter(), map.grid()))
+        .collect();
+    let bound: f64 = groups
+        .iter()
+        .flat_map(|(_, _, group)| group.iter().map(|&i| most[i]))
+        .sum();
+    if bound <= budget {
+        return Ok(());
+    }
+    let mut visits = 0.0;
+    for (k, n, group) in groups {
+        let m = at(*k, *n)?;
+        for &i in group {
+            visits += cut_visits(map, &discs[i].posed(&m[i].0));
+        }
+    }
+    bound_visits(visits, budget, what, span)
+}
+
 /// Cuts the discs at the times of `groups` ([`time_groups`]), in that
 /// order, discs in layout order at equal times. `at(k, n)` gives every
 /// disc's pose and twist at time `k / n` of the step, already validated
@@ -560,6 +605,7 @@ pub fn sweep(
     let groups = time_groups(counts);
     let at = |k: usize, n: usize| path(h * k as f64 / n as f64);
     check_poses(&groups, at)?;
+    check_visits(&face.map, discs, &groups, at, "the step", h)?;
     // nothing fails from here on: the step is all or nothing
     // at the start of the run (nothing cut yet) a disc's start pose is cut
     // first, as Model Exchange's initial event does (kerf.fmu's rule)

@@ -213,6 +213,50 @@ pub fn rim_travel(a: &Pose, b: &Pose, radius: f64) -> f64 {
     (b.position - a.position).norm() + q0.angle_to(&q1) * radius
 }
 
+/// The most weighted node visits one cut of a disc of `cutter` can make on
+/// a map of `grid`: every node a cut scans lies within the solid's reach of
+/// its centre (`sqrt(R^2 + (W/2)^2)`), each counted as a tilted disc's.
+pub(crate) fn most_visits_per_cut(
+    cutter: &super::params::CutterParams,
+    grid: &super::heightmap::Grid,
+) -> f64 {
+    let half = if cutter.has_flanks() {
+        cutter.hub_width
+    } else {
+        cutter.tip_width
+    } * 0.5;
+    let reach = cutter.radius.hypot(half);
+    (2.0 * reach / grid.dx + 2.0) * (2.0 * reach / grid.dy + 2.0) * TILTED_NODE_WEIGHT
+}
+
+/// The weighted node visits of a cut at the posed disc: the nodes of its
+/// window, each counting `TILTED_NODE_WEIGHT` under a tilted axle (its
+/// lower boundary takes Newton steps).
+pub(crate) fn cut_visits(map: &HeightMap, disc: &PosedDisc) -> f64 {
+    let w = if disc.rot[(2, 1)].abs() > 1e-12 {
+        TILTED_NODE_WEIGHT
+    } else {
+        1.0
+    };
+    w * window_nodes(map, disc) as f64
+}
+
+/// Refuses a call whose cuts would make `visits` weighted node visits, more
+/// than `budget`, naming the split that would fit; `what` and `span` (its
+/// duration) name the call.
+pub(crate) fn bound_visits(visits: f64, budget: f64, what: &str, span: f64) -> Result<()> {
+    if visits <= budget {
+        return Ok(());
+    }
+    let parts = (visits / budget).ceil();
+    Err(KerfError::TooMuchWork(format!(
+        "{what} ({span} s) would scan {visits:e} height-map nodes, more than the \
+         {budget:e} one call may: split it into at least {parts} steps \
+         of at most {:e} s",
+        span / parts
+    )))
+}
+
 /// How many sub-steps of at most `step` a path of `travel` takes (at least
 /// one). A part in 1e12 of the travel is forgiven: the frame turn of a disc
 /// spinning about its own tilted axle comes out as ~1e-17 rad/s instead of
@@ -534,43 +578,20 @@ impl Model {
     /// Checks every pose of a path and the nodes its cuts would scan.
     fn check_visits(&self, poses: impl Iterator<Item = Pose>, what: &str, span: f64) -> Result<()> {
         let poses: Vec<Pose> = poses.collect();
-        // every node a cut scans lies within the solid's reach of its centre
-        // (`sqrt(R^2 + (W/2)^2)`): when that bound already fits, the windows
-        // need not be found twice (they cost a tenth of a cut)
-        let g = self.state.face.map.grid();
-        let c = &self.params.cutter;
-        let half = if c.has_flanks() {
-            c.hub_width
-        } else {
-            c.tip_width
-        } * 0.5;
-        let reach = c.radius.hypot(half);
-        let most = (2.0 * reach / g.dx + 2.0) * (2.0 * reach / g.dy + 2.0) * TILTED_NODE_WEIGHT;
-        if most * poses.len() as f64 <= MAX_NODE_VISITS_PER_CALL {
+        let map = &self.state.face.map;
+        // when the reach bound already fits, the windows need not be found
+        // twice (they cost a tenth of a cut)
+        if most_visits_per_cut(&self.params.cutter, map.grid()) * poses.len() as f64
+            <= MAX_NODE_VISITS_PER_CALL
+        {
             return poses.iter().try_for_each(Pose::validate);
         }
         let mut visits = 0.0;
         for p in poses {
             p.validate()?;
-            let d = self.disc(&p);
-            // a tilted axle finds each node's lower boundary by Newton steps
-            let w = if d.rot[(2, 1)].abs() > 1e-12 {
-                TILTED_NODE_WEIGHT
-            } else {
-                1.0
-            };
-            visits += w * window_nodes(&self.state.face.map, &d) as f64;
+            visits += cut_visits(map, &self.disc(&p));
         }
-        if visits <= MAX_NODE_VISITS_PER_CALL {
-            return Ok(());
-        }
-        let parts = (visits / MAX_NODE_VISITS_PER_CALL).ceil();
-        Err(KerfError::TooMuchWork(format!(
-            "{what} ({span} s) would scan {visits:e} height-map nodes, more than the \
-             {MAX_NODE_VISITS_PER_CALL:e} one call may: split it into at least {parts} steps \
-             of at most {:e} s",
-            span / parts
-        )))
+        bound_visits(visits, MAX_NODE_VISITS_PER_CALL, what, span)
     }
 
     /// Moves the cutter from `start` along `twist` for `h` seconds, cutting the

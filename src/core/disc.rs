@@ -419,9 +419,8 @@ pub fn commit_paths(
             .collect())
     };
     let groups = time_groups(&counts);
-    check_poses(&groups, at)?;
     let what = "the event's paths since the last commit";
-    check_visits(&face.map, discs, &groups, at, what, dt)?;
+    check_call(&face.map, discs, &groups, at, what, dt)?;
     // nothing fails from here on: the commit is all or nothing
     // the energy takes kerf.fmu's trapezoid between the outputs after the
     // last commit (each disc at its last cut, on the face that commit left)
@@ -495,32 +494,18 @@ fn time_groups(counts: &[usize]) -> Vec<(usize, usize, Vec<usize>)> {
     groups
 }
 
-/// Validates every pose a step will cut at (`at(k, n)`: every disc's pose
-/// and twist at time `k / n`), before anything changes: a step whose path
-/// leaves the poses' bounds on the way is refused whole, not cut halfway.
-fn check_poses(
-    groups: &[(usize, usize, Vec<usize>)],
-    mut at: impl FnMut(usize, usize) -> Result<Vec<(Pose, Twist)>>,
-) -> Result<()> {
-    for (k, n, group) in groups {
-        let m = at(*k, *n)?;
-        for &i in group {
-            m[i].0.validate()?;
-        }
-    }
-    Ok(())
-}
-
-/// Refuses, before anything changes, a call whose cuts would scan more
-/// height-map nodes than kerf.fmu may in one call for each disc
-/// (`MAX_NODE_VISITS_PER_CALL` times the number of discs; a tilted disc's
-/// node counts `TILTED_NODE_WEIGHT`, as `Model` counts them), naming the
-/// split that would fit. The windows are counted only when the discs'
-/// reach does not bound the work already (a head's 1 ms step never needs
-/// them: 78 cuts of the reference head may make at most 9e8 visits against
-/// its budget of 2.8e9). `at` as in [`check_poses`]; `what` and `span`
-/// name the call.
-fn check_visits(
+/// Checks every pose a call will cut at (`at(k, n)`: every disc's pose and
+/// twist at time `k / n`), before anything changes: each is validated, so a
+/// step whose path leaves the poses' bounds on the way is refused whole,
+/// not cut halfway; and the cuts may scan at most as many height-map nodes
+/// as kerf.fmu may in one call for each disc (`MAX_NODE_VISITS_PER_CALL`
+/// times the number of discs; a tilted disc's node counts
+/// `TILTED_NODE_WEIGHT`, as `Model` counts them), else the call is refused
+/// naming the split that would fit. The windows are counted only when the
+/// discs' reach does not bound the work already (a head's 1 ms step never
+/// needs them: 78 cuts of the reference head may make at most 9e8 visits
+/// against its budget of 2.8e9). `what` and `span` name the call.
+fn check_call(
     map: &HeightMap,
     discs: &[Disc],
     groups: &[(usize, usize, Vec<usize>)],
@@ -537,14 +522,15 @@ fn check_visits(
         .iter()
         .flat_map(|(_, _, group)| group.iter().map(|&i| most[i]))
         .sum();
-    if bound <= budget {
-        return Ok(());
-    }
+    let count = bound > budget;
     let mut visits = 0.0;
     for (k, n, group) in groups {
         let m = at(*k, *n)?;
         for &i in group {
-            visits += cut_visits(map, &discs[i].posed(&m[i].0));
+            m[i].0.validate()?;
+            if count {
+                visits += cut_visits(map, &discs[i].posed(&m[i].0));
+            }
         }
     }
     bound_visits(visits, budget, what, span)
@@ -553,7 +539,7 @@ fn check_visits(
 /// Cuts the discs at the times of `groups` ([`time_groups`]), in that
 /// order, discs in layout order at equal times. `at(k, n)` gives every
 /// disc's pose and twist at time `k / n` of the step, already validated
-/// ([`check_poses`]). Returns whether the face changed, and the motions at
+/// ([`check_call`]). Returns whether the face changed, and the motions at
 /// the step's end (`k / n = 1`, every disc's last cut).
 fn cut_in_time_order(
     face: &mut Face,
@@ -604,8 +590,7 @@ pub fn sweep(
     check_sub_steps(counts, params, "the step", h)?;
     let groups = time_groups(counts);
     let at = |k: usize, n: usize| path(h * k as f64 / n as f64);
-    check_poses(&groups, at)?;
-    check_visits(&face.map, discs, &groups, at, "the step", h)?;
+    check_call(&face.map, discs, &groups, at, "the step", h)?;
     // nothing fails from here on: the step is all or nothing
     // at the start of the run (nothing cut yet) a disc's start pose is cut
     // first, as Model Exchange's initial event does (kerf.fmu's rule)

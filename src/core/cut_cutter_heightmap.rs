@@ -212,9 +212,22 @@ fn sweep_nodes<M: Nodes>(
     // the solid's half-width: the hub's with flanks (`rho_full` is the tip
     // profile across the tip, bit for bit)
     let h = disc.hub_half_width;
-    // a row along which y_local is constant (axle horizontal, heading along
-    // a grid axis) has one rim circle, whose lowest point bounds the cut
-    let const_row = horizontal && step.y == 0.0;
+    let const_row = step.y == 0.0;
+    // what a node above the boundary `z_low` becomes (`None`: it stays)
+    let lower = |stats: &mut CutStats, z: f64, z_low: f64| {
+        let excess = z - (z_low + elastic_depth);
+        if excess <= CUT_TOLERANCE {
+            return None;
+        }
+        // without a fraction (a probe) the node only tells that it would fall
+        let Some(f) = fraction else {
+            return Some(z);
+        };
+        let drop = f * excess;
+        stats.volume += drop * area;
+        stats.nodes += 1;
+        Some(z - drop)
+    };
     for j in w.j0..=w.j1 {
         let Some((i0, i1)) = w.row(&g, j) else {
             continue;
@@ -222,50 +235,52 @@ fn sweep_nodes<M: Nodes>(
         let (x0, y) = g.node_xy(i0, j);
         let mut a =
             rt * nalgebra::Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);
-        let floor = if const_row && a.y.abs() <= h {
-            disc.centre.z - disc.rho_full(a.y) + elastic_depth + CUT_TOLERANCE
-        } else {
-            f64::NEG_INFINITY
-        };
         let stats = &mut stats;
-        let stopped = map.lower_row(j, i0, i1, |z| {
-            if z <= floor {
-                a += step;
-                return None;
-            }
-            // local coordinates are affine along a row
-            let q = a;
-            a += step;
-            let z_low = if horizontal {
-                // axle horizontal: the lower boundary is the rim circle of
-                // radius rho(y_local)
-                if q.y.abs() > h {
+        let stopped = if horizontal {
+            // Axle horizontal: the vertical line through a node stays in the
+            // plane y_local = q.y and meets the rim circle of radius
+            // rho(q.y) there. With b = q.d (d is a unit vector in the x-z
+            // plane) and w the offset across d in that plane, the lower
+            // boundary is -b - sqrt(rho^2 - w^2). q.y, b and w are affine
+            // along the row: node k's are start + k * step.
+            let (b0, db) = (a.x * d.x + a.z * d.z, step.x * d.x + step.z * d.z);
+            let (w0, dw) = (a.x * d.z - a.z * d.x, step.x * d.z - step.z * d.x);
+            let (y0, dy) = (a.y, step.y);
+            // a row along which y_local is constant (heading along a grid
+            // axis) has one rim circle, whose lowest point bounds the cut
+            let floor = if const_row && y0.abs() <= h {
+                disc.centre.z - disc.rho_full(y0) + elastic_depth + CUT_TOLERANCE
+            } else {
+                f64::NEG_INFINITY
+            };
+            let mut k = -1.0f64;
+            map.lower_row(j, i0, i1, |z| {
+                k += 1.0;
+                if z <= floor {
                     return None;
                 }
-                let rho = disc.rho_full(q.y);
-                let b = q.x * d.x + q.z * d.z;
-                let disc2 = b * b - (q.x * q.x + q.z * q.z - rho * rho);
+                let qy = y0 + k * dy;
+                if qy.abs() > h {
+                    return None;
+                }
+                let rho = disc.rho_full(qy);
+                let w = w0 + k * dw;
+                let disc2 = rho * rho - w * w;
                 if disc2 < 0.0 {
                     return None;
                 }
-                -b - disc2.sqrt()
-            } else {
+                lower(stats, z, -(b0 + k * db) - disc2.sqrt())
+            })
+        } else {
+            map.lower_row(j, i0, i1, |z| {
+                // local coordinates are affine along a row
+                let q = a;
+                a += step;
                 let cap = z - elastic_depth - CUT_TOLERANCE;
-                disc.column_lower_end(&q, &d, cap)?.0
-            };
-            let excess = z - (z_low + elastic_depth);
-            if excess <= CUT_TOLERANCE {
-                return None;
-            }
-            // without a fraction (a probe) the node only tells that it would fall
-            let Some(f) = fraction else {
-                return Some(z);
-            };
-            let drop = f * excess;
-            stats.volume += drop * area;
-            stats.nodes += 1;
-            Some(z - drop)
-        });
+                let z_low = disc.column_lower_end(&q, &d, cap)?.0;
+                lower(stats, z, z_low)
+            })
+        };
         if stopped {
             return (*stats, true);
         }

@@ -204,10 +204,11 @@ impl PosedDisc {
             if a.y.abs() > h {
                 return None;
             }
+            // (the cut's formula: along d, b; across it in the plane, w)
             let rho = self.rho(a.y);
             let b = a.x * d.x + a.z * d.z;
-            let c = a.x * a.x + a.z * a.z - rho * rho;
-            let dd = b * b - c;
+            let w = a.x * d.z - a.z * d.x;
+            let dd = rho * rho - w * w;
             if dd < 0.0 {
                 return None;
             }
@@ -401,13 +402,28 @@ impl PosedDisc {
         // two lines parallel to the axle, so the part of the solid below z_top
         // lies in the hull of the radius-R arcs below z_top at the two ends of
         // the axle segment.
-        let a = self.arc_box(-self.half_width, rho, z_top)?;
-        let b = self.arc_box(self.half_width, rho, z_top)?;
+        // Each such arc lies in the vertical plane through its end of the
+        // axle (at the centre's height) and spans that point +- L along the
+        // plane's horizontal direction u: L = sqrt(R^2 - dz^2) while z_top
+        // lies dz below the centre, R once it is above.
+        let dz = self.centre.z - z_top;
+        if dz > rho {
+            return None;
+        }
+        let l = if dz > 0.0 {
+            (rho * rho - dz * dz).max(0.0).sqrt()
+        } else {
+            rho
+        };
+        let (hx, hy) = (axle.x * self.half_width, axle.y * self.half_width);
+        // u = (-axle.y, axle.x): its extents along x and y
+        let (ux, uy) = ((axle.y * l).abs(), (axle.x * l).abs());
+        let (cx, cy) = (self.centre.x, self.centre.y);
         Some([
-            a[0].min(b[0]) - PAD,
-            a[1].max(b[1]) + PAD,
-            a[2].min(b[2]) - PAD,
-            a[3].max(b[3]) + PAD,
+            cx - hx.abs() - ux - PAD,
+            cx + hx.abs() + ux + PAD,
+            cy - hy.abs() - uy - PAD,
+            cy + hy.abs() + uy + PAD,
         ])
     }
 

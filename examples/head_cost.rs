@@ -1,6 +1,6 @@
 //! Cost of a cutterhead step: the layout's discs boring from the steady
 //! start at `rpm` with `p_rev` per revolution, `steps` steps of `h`.
-//! `cargo run --release --example head_cost -- layouts/reference-9.72m.json [h] [steps] [rpm] [p_rev]`
+//! `cargo run --release --example head_cost -- layouts/reference-9.72m.json [h] [steps] [rpm] [p_rev] [sweep_step]`
 //! Prints the median wall time per step and per disc-step (set
 //! RAYON_NUM_THREADS for the thread count).
 use kerf::core::head::{default_rock, DiscSpec, Head};
@@ -22,6 +22,9 @@ fn main() {
     let mut p = Params::default();
     (p.rock.x_min, p.rock.x_max, p.rock.y_min, p.rock.y_max) = (-half, half, -half, half);
     (p.rock.nx, p.rock.ny) = (nodes, nodes);
+    if let Some(s) = a.get(5) {
+        p.numerics.sweep_step = s.parse().unwrap();
+    }
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
     let n = specs.len();
     let mut head = Head::new(p, specs).unwrap();

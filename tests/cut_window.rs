@@ -93,3 +93,52 @@ fn the_windowed_cut_lowers_exactly_the_nodes_a_full_scan_lowers() {
     }
     assert_eq!(checked, 144);
 }
+
+/// A row of nodes that keeps its axle coordinate gets a floor, the lowest
+/// the solid reaches in the row's vertical plane, found once: it must lie
+/// at or below the solid's lower boundary at every point of the row, and
+/// equal the lowest of them (here sampled every 5 um).
+#[test]
+fn a_rows_floor_is_the_lowest_the_solid_reaches_along_the_row() {
+    let c = CutterParams::default();
+    let mut checked = 0;
+    for tilt in [3.0f64, 12.0, 35.0, 60.0, 85.0] {
+        for z in [0.2f64, 0.2159, 0.23] {
+            let pose = Pose::new(0.01, -0.02, z, 0.0, 0.0, tilt.to_radians());
+            let disc = PosedDisc::new(&c, &pose);
+            let rt = disc.rot.transpose();
+            let d = rt.column(2).into_owned();
+            let step = rt.column(0) * 1e-3;
+            assert!(step.y.abs() < 1e-15, "a row along x keeps y_local");
+            for k in -40..=40 {
+                let y = -0.02 + 1e-3 * k as f64;
+                let x0 = -0.3;
+                let a = rt
+                    * nalgebra::Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);
+                let floor = disc.row_floor(&a, &d, &step);
+                let lowest = (0..120_000)
+                    .filter_map(|i| disc.lower_boundary(x0 + 5e-6 * i as f64, y))
+                    .map(|(z, _)| z)
+                    .fold(f64::INFINITY, f64::min);
+                match floor {
+                    None => assert!(
+                        lowest.is_infinite(),
+                        "tilt {tilt} y {y}: no floor, solid at {lowest}"
+                    ),
+                    Some(f) => {
+                        assert!(
+                            f <= lowest + 1e-12,
+                            "tilt {tilt} y {y}: floor {f} above {lowest}"
+                        );
+                        assert!(
+                            f >= lowest - 1e-9,
+                            "tilt {tilt} y {y}: floor {f} far below {lowest}"
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 300, "{checked} rows met the solid");
+}

@@ -212,7 +212,6 @@ fn sweep_nodes<M: Nodes>(
     // the solid's half-width: the hub's with flanks (`rho_full` is the tip
     // profile across the tip, bit for bit)
     let h = disc.hub_half_width;
-    let const_row = step.y == 0.0;
     // what a node above the boundary `z_low` becomes (`None`: it stays)
     let lower = |stats: &mut CutStats, z: f64, z_low: f64| {
         let excess = z - (z_low + elastic_depth);
@@ -232,6 +231,11 @@ fn sweep_nodes<M: Nodes>(
         let Some((i0, i1)) = w.row(&g, j) else {
             continue;
         };
+        // a row that keeps its axle coordinate (heading along a grid axis;
+        // rounding of a spinning pose may leave it drifting by less than
+        // 1e-15 m, nothing to the heights) lies in one vertical plane,
+        // whose lowest point of the solid bounds the cut
+        let flat_row = (step.y * (i1 - i0) as f64).abs() <= 1e-15;
         let (x0, y) = g.node_xy(i0, j);
         let mut a =
             rt * nalgebra::Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);
@@ -246,9 +250,8 @@ fn sweep_nodes<M: Nodes>(
             let (b0, db) = (a.x * d.x + a.z * d.z, step.x * d.x + step.z * d.z);
             let (w0, dw) = (a.x * d.z - a.z * d.x, step.x * d.z - step.z * d.x);
             let (y0, dy) = (a.y, step.y);
-            // a row along which y_local is constant (heading along a grid
-            // axis) has one rim circle, whose lowest point bounds the cut
-            let floor = if const_row && y0.abs() <= h {
+            // (the plane's solid is the rim circle at y_local)
+            let floor = if flat_row && y0.abs() <= h {
                 disc.centre.z - disc.rho_full(y0) + elastic_depth + CUT_TOLERANCE
             } else {
                 f64::NEG_INFINITY
@@ -272,10 +275,20 @@ fn sweep_nodes<M: Nodes>(
                 lower(stats, z, -(b0 + k * db) - disc2.sqrt())
             })
         } else {
+            // (a plane that misses the solid: nothing to cut in the row)
+            let floor = if flat_row && !disc.has_flanks() {
+                disc.row_floor(&a, &d, &step)
+                    .map_or(f64::INFINITY, |t| t + elastic_depth + CUT_TOLERANCE)
+            } else {
+                f64::NEG_INFINITY
+            };
             map.lower_row(j, i0, i1, |z| {
                 // local coordinates are affine along a row
                 let q = a;
                 a += step;
+                if z <= floor {
+                    return None;
+                }
                 let cap = z - elastic_depth - CUT_TOLERANCE;
                 let z_low = disc.column_lower_end(&q, &d, cap)?.0;
                 lower(stats, z, z_low)

@@ -286,6 +286,73 @@ impl PosedDisc {
         Some((inn, Face::Rim { y: qy }))
     }
 
+    /// The lowest rock height at which the solid meets the vertical plane
+    /// swept by a row of vertical lines `q(t) = a + k step + t d` (`k` real;
+    /// `step` has no axle component, so the row keeps its axle coordinate
+    /// at each height): a lower bound of [`column_lower_end`] for every
+    /// node of the row, found once. `None` when the plane misses the
+    /// solid. Flank-less solids only (`None` with flanks, a caller must not
+    /// use it then).
+    ///
+    /// In the plane, at rock height `t`, the lines' points `q_xz` run along
+    /// `step`, so the nearest to the axle lies `w(t)` from it, `w` the
+    /// offset across `step`, affine in `t`; the solid reaches that height
+    /// where `|w(t)| <= rho(q_y(t))`, a convex condition solved like the
+    /// column's.
+    ///
+    /// [`column_lower_end`]: Self::column_lower_end
+    pub fn row_floor(
+        &self,
+        a: &Vector3<f64>,
+        d: &Vector3<f64>,
+        step: &Vector3<f64>,
+    ) -> Option<f64> {
+        if self.has_flanks() || d.y.abs() < 1e-12 {
+            return None;
+        }
+        let h = self.half_width;
+        let len = step.x.hypot(step.z);
+        let (nx, nz) = (-step.z / len, step.x / len);
+        let (w0, w1) = (a.x * nx + a.z * nz, d.x * nx + d.z * nz);
+        let inv_dy = 1.0 / d.y;
+        let (mut t1, mut t2) = ((-h - a.y) * inv_dy, (h - a.y) * inv_dy);
+        if t1 > t2 {
+            std::mem::swap(&mut t1, &mut t2);
+        }
+        // the solid lies within R of the axle
+        let big = self.radius;
+        let mut start = t1;
+        if w1.abs() > 1e-15 {
+            let (mut lo, mut hi) = ((-big - w0) / w1, (big - w0) / w1);
+            if lo > hi {
+                std::mem::swap(&mut lo, &mut hi);
+            }
+            if hi < t1 || lo > t2 {
+                return None;
+            }
+            start = start.max(lo);
+        } else if w0.abs() > big {
+            return None;
+        }
+        let r = self.tip_radius;
+        let gd = |t: f64| {
+            let w = w0 + w1 * t;
+            let y = (a.y + d.y * t).clamp(-h, h);
+            let s2 = r * r - y * y;
+            let sq = s2.max(0.0).sqrt();
+            let root = if s2 >= 1e-300 { sq } else { 1e-300f64.sqrt() };
+            (
+                w.abs() - (self.radius - r + sq),
+                w1.copysign(w) + y / root * d.y,
+            )
+        };
+        let (gt, st) = gd(start);
+        if gt <= 0.0 {
+            return Some(start);
+        }
+        first_root(gd, start, gt, st, t2)
+    }
+
     /// [`lower_boundary`](Self::lower_boundary) of the flanked solid: the
     /// same solve with the slab `|y| <= W/2` and the piecewise `rho_full`
     /// (concave, so `g` stays convex and Newton from the slab's entry still

@@ -8,7 +8,9 @@ cuttingEnergy; column names may be quoted or prefixed as "head.thrust",
 points, end time, thrust and torque at the end and their means over the run,
 excavatedVolume and cuttingEnergy at the end, and the largest difference to
 the reference at common time points, relative to the reference's largest
-|value| of that column. Exit status 1 if a host disagrees by more than REL
+|value| of that column's group (forces thrust Fx Fy Fz; moments torque Mx My
+Mz; excavatedVolume; cuttingEnergy), so that a small component such as Fx is
+judged against the load it is part of. Exit status 1 if a host disagrees by more than REL
 (default 1e-9) in any compared column, or stops early.
 """
 import csv
@@ -63,7 +65,11 @@ def main(argv):
         return 1
     ref_label, ref = runs[0]
     rts = sorted(ref)
-    scale = {c: max((abs(ref[t][c]) for t in rts), default=0.0) or 1.0 for c in COLS}
+    groups = [["thrust", "Fx", "Fy", "Fz"], ["torque", "Mx", "My", "Mz"], ["excavatedVolume"], ["cuttingEnergy"]]
+    scale = {}
+    for g in groups:
+        s = max((abs(ref[t][c]) for t in rts for c in g), default=0.0) or 1.0
+        scale.update({c: s for c in g})
     bad = 0
     print(f"{'host/interface':26s} {'points':>6s} {'t_end':>6s} {'thrust_end[N]':>14s} {'torque_end[Nm]':>14s} "
           f"{'thrust_mean':>12s} {'torque_mean':>12s} {'excavatedVol[m3]':>16s} {'cuttingEnergy[J]':>16s}  "

@@ -16,8 +16,8 @@
 # usage: run-head.sh path/to/head.fmu
 # env:   HOSTS (default /tmp/kerf-hosts), OUT (default $HOSTS/runs/head),
 #        STOP (0.2), H (1e-3), RPM (10), PREV (0.006),
-#        STARTS ("NAME=VALUE ..." start values for hosts that take them in the
-#        bore run; fmuCheck and fmi-sim cannot, so they are skipped then)
+#        STARTS ("NAME=VALUE ..." start values for the bore run; fmuCheck has
+#        no option for them, so its bore is skipped then)
 set -u
 HOSTS=${HOSTS:-/tmp/kerf-hosts}
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -46,9 +46,10 @@ run() {  # TAG LABEL CSV|- CMD...
   [ "$csv" != - ] && CSVS+=("$tag=$csv")
 }
 # STARTS as each host spells it
-FMUSIM_SV=(); FMPY_SV=(); DRV_SV=()
+FMUSIM_SV=(); FMUSIMRS_SV=(); FMPY_SV=(); DRV_SV=(); FMISIM_SV=()
 for kv in $STARTS; do
-  FMUSIM_SV+=(--start-value "${kv%%=*}" "${kv#*=}"); FMPY_SV+=("${kv%%=*}" "${kv#*=}"); DRV_SV+=("$kv")
+  FMUSIM_SV+=(--start-value "${kv%%=*}" "${kv#*=}"); FMPY_SV+=("${kv%%=*}" "${kv#*=}"); DRV_SV+=("$kv"); FMISIM_SV+=(--init-values "$kv")
+  FMUSIMRS_SV+=(--start-value "$kv")
 done
 
 echo "head FMU: $FMU ($(sha256sum "$FMU" | cut -c1-16))"
@@ -72,7 +73,7 @@ if [ -x "$F" ]; then
     run fmusim_${m}_default "fmusim 0.0.39 $m default" - "$F" --interface-type $m --output-file fmusim_${m}_default.csv \
       --logging-on --log-level ok --log-file fmusim_${m}_default.fmu.log "$FMU"
   done
-  run fmusim_bore "fmusim 0.0.39 CS bore" fmusim_bore.csv "$F" --interface-type cs "${FMUSIM_SV[@]}" \
+  run fmusim_bore "fmusim 0.0.39 CS bore" fmusim_bore.csv "$F" --interface-type cs ${FMUSIM_SV[@]+"${FMUSIM_SV[@]}"} \
     --stop-time "$STOP" --output-interval "$H" --input-file bore.csv --output-file fmusim_bore.csv \
     --logging-on --log-level ok --log-file fmusim_bore.fmu.log "$FMU"
 else skip "fmusim (C)" "not built"; fi
@@ -83,7 +84,7 @@ if [ -x "$F" ]; then
   for m in me cs; do
     run fmusimrs_${m}_default "fmusim-rs 0.8.0 $m default" - "$F" simulate --interface-type $m --output-file fmusimrs_${m}_default.csv --logging-on "$FMU"
   done
-  run fmusimrs_bore "fmusim-rs 0.8.0 CS bore" fmusimrs_bore.csv "$F" simulate --interface-type cs "${FMUSIM_SV[@]}" \
+  run fmusimrs_bore "fmusim-rs 0.8.0 CS bore" fmusimrs_bore.csv "$F" simulate --interface-type cs ${FMUSIMRS_SV[@]+"${FMUSIMRS_SV[@]}"} \
     --stop-time "$STOP" --output-interval "$H" --input-file bore.csv --output-file fmusimrs_bore.csv --logging-on "$FMU"
 else skip "fmusim-rs" "not built"; fi
 
@@ -101,9 +102,8 @@ S=$HOSTS/fmi-sim/bin/fmi-sim
 if [ -x "$S" ]; then
   run fmisim_me_default "fmi-sim 0.7.0 ME default" - env RUST_BACKTRACE=0 "$S" --model "$FMU" -o fmisim_me_default.csv model-exchange
   run fmisim_cs_default "fmi-sim 0.7.0 CS default" - env RUST_BACKTRACE=0 "$S" --model "$FMU" -o fmisim_cs_default.csv co-simulation
-  if [ -z "$STARTS" ]; then
-    run fmisim_bore "fmi-sim 0.7.0 CS bore" fmisim_bore.csv env RUST_BACKTRACE=0 "$S" --model "$FMU" -i bore.csv -o fmisim_bore.csv co-simulation --step "$H" -f "$STOP" -n 0
-  else skip "fmi-sim CS bore" "start values not passed"; fi
+  run fmisim_bore "fmi-sim 0.7.0 CS bore" fmisim_bore.csv env RUST_BACKTRACE=0 "$S" --model "$FMU" -i bore.csv -o fmisim_bore.csv \
+    co-simulation ${FMISIM_SV[@]+"${FMISIM_SV[@]}"} --step "$H" -f "$STOP" -n 0
 else skip "fmi-sim" "not built"; fi
 
 if [ -x "$PY" ] && "$PY" -c 'import ecospy' 2>/dev/null; then

@@ -1,0 +1,46 @@
+"""Helpers shared by the head drivers: the FMU's output names (Real outputs,
+from modelDescription.xml), the input table of a CSV, ZOH lookup."""
+import csv
+import xml.etree.ElementTree as ET
+import zipfile
+
+
+def real_outputs(fmu):
+    with zipfile.ZipFile(fmu) as z:
+        root = ET.fromstring(z.read("modelDescription.xml"))
+    names = []
+    for sv in root.iter("ScalarVariable"):
+        if sv.get("causality") == "output" and sv.find("Real") is not None:
+            names.append(sv.get("name"))
+    return names
+
+
+def read_inputs(path):
+    with open(path, newline="") as f:
+        rd = csv.reader(f)
+        head = next(rd)
+        rows = [[float(x) for x in r] for r in rd if r]
+    return head[1:], rows
+
+
+def value_at(rows, t):
+    """Row values (without time) of the last row with time <= t (+1e-12):
+    the inputs at the start of a communication step (zero-order hold; exact
+    for the head scenario, whose inputs are linear in t and sampled at every
+    step)."""
+    best = rows[0]
+    for r in rows:
+        if r[0] <= t + 1e-12:
+            best = r
+        else:
+            break
+    return best[1:]
+
+
+def parse_starts(args):
+    """NAME=VALUE arguments -> dict of floats."""
+    d = {}
+    for a in args:
+        k, v = a.split("=", 1)
+        d[k] = float(v)
+    return d

@@ -463,3 +463,41 @@ fn rolling_into_the_end_face_is_felt_at_the_first_sample_that_touches_it() {
         "contact missed at the first touching sample"
     );
 }
+
+/// kerf.fmu's disc rolling at 0.157 m/s while it plunges at 1 mm/s from
+/// 0.1 mm deep in flat rock (every step cuts a little deeper): each step
+/// taken twice from the same state, z moved by 1e-15 m the second time,
+/// moves the forces by round-off (it moved the normal force by 9e-4 of
+/// itself: docs/hosts.md, K1).
+#[test]
+fn a_plunging_cut_moves_by_round_off_when_the_pose_does() {
+    let prm = Params::default();
+    let r = prm.cutter.radius;
+    let (v, d0, vz) = (0.157, 1e-4, -1e-3);
+    let mut m = Model::new(prm).unwrap();
+    let tw = Twist::new([v, 0.0, vz], [0.0, v / r, 0.0]);
+    let mut worst = 0.0f64;
+    for k in 0..60 {
+        let t = k as f64 * 1e-3;
+        let pose = Pose::new(v * t, 0.0, r - d0 + vz * t, 0.0, 0.0, 0.0);
+        let s = m.state();
+        let mut moved = pose;
+        moved.position.z += 1e-15;
+        let e = m.advance(&moved, &tw, 1e-3).unwrap();
+        let b = m.evaluate(&e, &tw).unwrap();
+        m.set_state(&s).unwrap();
+        let e = m.advance(&pose, &tw, 1e-3).unwrap();
+        let a = m.evaluate(&e, &tw).unwrap();
+        assert!(a.normal_force > 0.0, "step {k} cuts");
+        for (x, y) in [
+            (a.normal_force, b.normal_force),
+            (a.rolling_force, b.rolling_force),
+        ] {
+            worst = worst.max((x - y).abs() / a.normal_force);
+        }
+    }
+    assert!(
+        worst < 1e-7,
+        "the forces moved by {worst:e} of the normal force"
+    );
+}

@@ -653,3 +653,47 @@ fn a_step_too_long_for_one_call_is_refused_untouched() {
     assert!(e.contains("split it into at least"), "{e}");
     assert_eq!(me.state().to_bytes(), before);
 }
+
+/// A head boring flat rock, its discs' cuts shallow and deepening every
+/// step: each step is taken twice from the same state, the head's z
+/// moved by 1e-15 m the second time. The outputs must move by round-off,
+/// not jump. (They jumped by up to 1 % of the thrust and 4 % of a disc's
+/// normal force: an arc's last sample, where the rim rises to the highest
+/// rock, read inside or out by round-off, and a march step could hide a
+/// second exit; docs/hosts.md, K1.) The demo head's layout, 10 rpm, 6 mm
+/// per revolution, 1 ms steps.
+#[test]
+fn outputs_move_by_round_off_when_the_pose_does_in_a_shallow_deepening_cut() {
+    let lay = kerf::core::layout::load(std::path::Path::new("layouts/demo-1.2m.json")).unwrap();
+    let (half, _) = kerf::core::head::default_rock(&lay);
+    let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
+    let mut head = Head::new(params(half), specs).unwrap();
+    let w = 10.0 * 2.0 * std::f64::consts::PI / 60.0;
+    let vz = -0.006 * w / (2.0 * std::f64::consts::PI);
+    let twist = Twist::new([0.0, 0.0, vz], [0.0, 0.0, w]);
+    let h = 1e-3;
+    let (mut thrust, mut disc) = (0.0f64, 0.0f64);
+    for k in 0..200 {
+        let t = k as f64 * h;
+        let pose = Pose::new(0.0, 0.0, vz * t, w * t, 0.0, 0.0);
+        let s = head.state();
+        let mut moved = pose;
+        moved.position.z += 1e-15;
+        let e = head.advance_head(&moved, &twist, h).unwrap();
+        let b = head.evaluate_head(&e, &twist).unwrap();
+        head.set_state(&s).unwrap();
+        let e = head.advance_head(&pose, &twist, h).unwrap();
+        let a = head.evaluate_head(&e, &twist).unwrap();
+        thrust = thrust.max((a.thrust - b.thrust).abs() / a.thrust.abs());
+        for (x, y) in a.discs.iter().zip(&b.discs) {
+            if x.normal_force > 0.0 {
+                disc = disc.max((x.normal_force - y.normal_force).abs() / x.normal_force);
+            }
+        }
+    }
+    assert!(thrust < 1e-7, "thrust moved by {thrust:e} of itself");
+    assert!(
+        disc < 1e-6,
+        "a disc's normal force moved by {disc:e} of itself"
+    );
+}

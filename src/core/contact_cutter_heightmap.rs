@@ -518,11 +518,46 @@ fn march_from(
         if k > n {
             break None;
         }
+        let sc_prev = (s, c);
         advance(&mut s, &mut c);
         let t = theta0 + dt * k as f64;
         let (here, ahead) = rim.overlap(map, s, c, dir, look);
-        if ahead <= 0.0 {
-            break Some((t, ahead));
+        // the walk's last angle is where the rim rises to the highest rock
+        // near the disc: the rock there is over the rim by round-off at
+        // most, and whether it read inside or out decided whether the
+        // whole last step was contact (the forces jumped as the pose moved
+        // by round-off)
+        let at_top = k == n && reach < std::f64::consts::PI;
+        if ahead <= 0.0 || at_top {
+            // The step is walked again at half a cell of rim (as the start
+            // is searched), so that the end is the first exit to that
+            // resolution: where the rim grazes rock cut earlier, the rock
+            // over it can dip to zero and back inside one step, and
+            // refining the step's bracket found either exit as the pose
+            // moved by round-off.
+            let m = ((dt.abs() * radius / look).ceil() as usize).max(1);
+            let (t0, dts) = (t_prev, (t - t_prev) / m as f64);
+            let mut out = None;
+            for j in 1..m {
+                let ts = t0 + dts * j as f64;
+                let (ss, cs) = sin_cos_near(ts, t - dt, sc_prev);
+                let (here_s, ahead_s) = rim.overlap(map, ss, cs, dir, look);
+                if ahead_s <= 0.0 {
+                    out = Some((ts, ahead_s));
+                    break;
+                }
+                u_max = u_max.max(here_s);
+                t_prev = ts;
+                u_prev = ahead_s;
+            }
+            if out.is_some() || !at_top {
+                break out.or(Some((t, ahead)));
+            }
+            // inside up to the top: the arc ends there
+            u_max = u_max.max(here);
+            t_prev = t;
+            u_prev = ahead;
+            break None;
         }
         u_max = u_max.max(here);
         t_prev = t;

@@ -206,12 +206,14 @@ pub fn model_description(
         )
     };
     let middle = format!(
-        "{}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  <DefaultExperiment startTime=\"0\" stopTime=\"1\" stepSize=\"0.001\"/>\n\n",
+        "{}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n",
         raw("ModelExchange")?,
         raw("CoSimulation")?,
         raw("UnitDefinitions")?,
         raw("TypeDefinitions")?,
         raw("LogCategories")?,
+        // kerf.fmu's, tolerance included (PyFMI warned without one)
+        raw("DefaultExperiment")?,
     );
     let kerf_guid = md.attribute("guid").unwrap_or("");
     let guid = guid_of(&format!("{kerf_guid}\n{}{middle}{body}", head("")));

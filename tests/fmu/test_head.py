@@ -68,6 +68,9 @@ def test_model_description_follows_the_layout(head_fmu, discs_fmu):
     md = head_fmu.md
     assert md.modelName == layout["name"]
     assert md.coSimulation.modelIdentifier == "kerf" and md.modelExchange.modelIdentifier == "kerf"
+    # kerf.fmu's default experiment, tolerance included (PyFMI warns without one)
+    de = md.defaultExperiment
+    assert (de.startTime, de.stopTime, de.tolerance, de.stepSize) == ("0", "1", "1e-6", "0.001")
     for v in md.modelVariables:
         if v.type == "Real":
             assert v.unit, f"{v.name} has no unit"

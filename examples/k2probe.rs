@@ -13,11 +13,20 @@ fn main() {
     let mut p = Params::default();
     (p.rock.x_min, p.rock.x_max, p.rock.y_min, p.rock.y_max) = (-half, half, -half, half);
     (p.rock.nx, p.rock.ny) = (nodes, nodes);
-    if let Ok(m) = std::env::var("MU") { p.friction.mu = m.parse().unwrap(); }
+    if let Ok(m) = std::env::var("MU") {
+        p.friction.mu = m.parse().unwrap();
+    }
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
-    let tilted: Vec<usize> = specs.iter().enumerate().filter(|(_, s)| s.mount.tilt != 0.0).map(|(i, _)| i).collect();
+    let tilted: Vec<usize> = specs
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.mount.tilt != 0.0)
+        .map(|(i, _)| i)
+        .collect();
     let mut head = Head::new(p, specs).unwrap();
-    if steady { head.steady_start(0.006).unwrap(); }
+    if steady {
+        head.steady_start(0.006).unwrap();
+    }
     let w = rpm * 2.0 * std::f64::consts::PI / 60.0;
     let vz = -0.006 * w / (2.0 * std::f64::consts::PI);
     let twist = Twist::new([0.0, 0.0, vz], [0.0, 0.0, w]);
@@ -27,8 +36,18 @@ fn main() {
     for _ in 0..steps {
         pose = head.advance_head(&pose, &twist, 1e-3).unwrap();
         let o = head.evaluate_head(&pose, &twist).unwrap();
-        tq += o.torque / steps as f64; th += o.thrust / steps as f64;
-        for (g, &i) in gr.iter_mut().zip(&tilted) { *g += o.discs[i].rolling_force / steps as f64; }
+        tq += o.torque / steps as f64;
+        th += o.thrust / steps as f64;
+        for (g, &i) in gr.iter_mut().zip(&tilted) {
+            *g += o.discs[i].rolling_force / steps as f64;
+        }
     }
-    println!("mean thrust {:.0} kN torque {:.1} kN.m; gauge rolling forces {:?} kN", th / 1e3, tq / 1e3, gr.iter().map(|g| (g / 100.0).round() / 10.0).collect::<Vec<_>>());
+    println!(
+        "mean thrust {:.0} kN torque {:.1} kN.m; gauge rolling forces {:?} kN",
+        th / 1e3,
+        tq / 1e3,
+        gr.iter()
+            .map(|g| (g / 100.0).round() / 10.0)
+            .collect::<Vec<_>>()
+    );
 }

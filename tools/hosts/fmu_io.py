@@ -4,6 +4,10 @@ import csv
 import xml.etree.ElementTree as ET
 import zipfile
 
+# the head's totals the drivers record, in this order (those the FMU has)
+TOTALS = ["Fx", "Fy", "Fz", "Mx", "My", "Mz", "thrust", "torque", "excavatedVolume", "cuttingEnergy",
+          "specificEnergy", "chippedVolume"]
+
 
 def real_outputs(fmu):
     with zipfile.ZipFile(fmu) as z:
@@ -44,3 +48,17 @@ def parse_starts(args):
         k, v = a.split("=", 1)
         d[k] = float(v)
     return d
+
+
+def head_totals(fmu):
+    """The names of TOTALS that `fmu` has as Real outputs, in TOTALS order."""
+    have = set(real_outputs(fmu))
+    return [n for n in TOTALS if n in have]
+
+
+def run_args(argv):
+    """`[stop=0.2] [h=1e-3] [NAME=VALUE ...]` of a driver's command line:
+    (stop, h, start values)."""
+    stop = float(argv[0]) if len(argv) > 0 else 0.2
+    h = float(argv[1]) if len(argv) > 1 else 1e-3
+    return stop, h, parse_starts(argv[2:])

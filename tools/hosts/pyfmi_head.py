@@ -18,7 +18,7 @@ import numpy as np
 from pyfmi import load_fmu
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fmu_io import parse_starts, read_inputs, real_outputs  # noqa: E402
+from fmu_io import head_totals, read_inputs, run_args  # noqa: E402
 
 args = sys.argv[1:]
 kind = "CS"
@@ -28,12 +28,8 @@ if "--kind" in args:
     del args[i:i + 2]
 sys.argv[1:] = args
 fmu, inp, out = sys.argv[1:4]
-stop = float(sys.argv[4]) if len(sys.argv) > 4 else 0.2
-h = float(sys.argv[5]) if len(sys.argv) > 5 else 1e-3
-starts = parse_starts(sys.argv[6:])
-TOTALS = ["Fx", "Fy", "Fz", "Mx", "My", "Mz", "thrust", "torque", "excavatedVolume", "cuttingEnergy",
-          "specificEnergy", "chippedVolume"]
-OUTS = [n for n in TOTALS if n in set(real_outputs(fmu))]
+stop, h, starts = run_args(sys.argv[4:])
+OUTS = head_totals(fmu)
 names, rows_in = read_inputs(inp) if inp != "-" else ([], None)
 model = load_fmu(fmu, kind=kind, log_level=4)
 for k, v in starts.items():

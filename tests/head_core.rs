@@ -697,3 +697,52 @@ fn outputs_move_by_round_off_when_the_pose_does_in_a_shallow_deepening_cut() {
         "a disc's normal force moved by {disc:e} of itself"
     );
 }
+
+/// A head's discs turn freely on their bearings: friction does not push a
+/// tilted gauge disc along its path. Its spin rolls its nominal tip, but it
+/// touches the rock near the tip's low edge, which then slid at 1-2 % of
+/// the rolling speed; with the full slip, friction (mu = 0.3) made the demo
+/// head's 20 deg disc's rolling force -1.3 kN instead of +1.0 kN, and the
+/// head's torque negative (docs/hosts.md, K2). With friction on and off the
+/// tilted discs' rolling forces now agree within 1 % of their normal force.
+#[test]
+fn friction_does_not_push_a_freely_turning_tilted_disc_along_its_path() {
+    let lay = kerf::core::layout::load(std::path::Path::new("layouts/demo-1.2m.json")).unwrap();
+    let (half, _) = kerf::core::head::default_rock(&lay);
+    let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
+    let tilted: Vec<usize> = (0..specs.len())
+        .filter(|&i| specs[i].mount.tilt > 0.0)
+        .collect();
+    assert!(tilted.len() >= 2);
+    let run = |mu: f64| {
+        let mut p = params(half);
+        p.friction.mu = mu;
+        let mut head = Head::new(p, specs.clone()).unwrap();
+        let w = 10.0 * 2.0 * std::f64::consts::PI / 60.0;
+        let (out, _) = bore(
+            &mut head,
+            w,
+            0.006,
+            0.05 * w / (2.0 * std::f64::consts::PI),
+            1e-3,
+        );
+        out
+    };
+    let (with, without) = (run(0.3), run(0.0));
+    assert_eq!(with.len(), 50);
+    for (a, b) in with.iter().zip(&without) {
+        for &i in &tilted {
+            let (x, y) = (&a.discs[i], &b.discs[i]);
+            assert!(x.normal_force > 1e4, "disc {} cuts", i + 1);
+            let d = (x.rolling_force - y.rolling_force).abs() / x.normal_force;
+            assert!(
+                d < 0.01,
+                "disc {}: rolling force {} with friction, {} without",
+                i + 1,
+                x.rolling_force,
+                y.rolling_force
+            );
+        }
+        assert!(a.torque > 0.0, "torque {}", a.torque);
+    }
+}

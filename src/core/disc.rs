@@ -48,6 +48,8 @@ pub struct Disc {
     /// pose it cut to ([`commit_paths`] books the next commit's energy from
     /// it); cleared with `cache`.
     after_commit: Kept,
+    /// The disc turns freely on its bearing ([`Disc::turning_freely`]).
+    free: bool,
 }
 
 impl Clone for Disc {
@@ -58,6 +60,7 @@ impl Clone for Disc {
             relieved: self.relieved,
             cache: Cell::new(None),
             after_commit: Cell::new(None),
+            free: self.free,
         }
     }
 }
@@ -111,7 +114,24 @@ impl Disc {
             relieved: CsmLaw::scaled(cutter, csm, p_reg, pressure_scale),
             cache: Cell::new(None),
             after_commit: Cell::new(None),
+            free: false,
         }
+    }
+
+    /// The same disc turning freely on its bearing, as a cutterhead's discs
+    /// do: its spin is whatever rolls its contact over the rock, so the
+    /// friction reads only the slip a free spin cannot take up (the slip at
+    /// the contact less its part along the rim). A host that sets the spin
+    /// of kerf.fmu's disc (a braked or skidding cutter) gets the friction of
+    /// all of its slip.
+    ///
+    /// Without it a tilted disc on a head, whose spin rolls its nominal tip
+    /// while it touches the rock near the tip's low edge, slid at 1-2 % of
+    /// its rolling speed and felt nearly full sliding friction along its
+    /// path (docs/hosts.md, K2).
+    pub fn turning_freely(mut self) -> Self {
+        self.free = true;
+        self
     }
 
     pub fn cutter(&self) -> &CutterParams {
@@ -171,7 +191,16 @@ impl Disc {
         let rot = pose.rotation();
         // friction on the slip of the rim over the rock where the contact is
         // lowest (kerf) or at the point of force application (thesis eq. 56)
-        let slip_v = twist.velocity + twist.omega.cross(&c.slip_point);
+        let mut slip_v = twist.velocity + twist.omega.cross(&c.slip_point);
+        if self.free {
+            // the rim's direction of travel at the contact, which the spin
+            // takes up
+            let along = (rot * Vector3::y()).cross(&c.slip_point);
+            let n2 = along.norm_squared();
+            if n2 > 0.0 {
+                slip_v -= along * (slip_v.dot(&along) / n2);
+            }
+        }
         let f = &params.friction;
         let friction = if c.in_contact {
             friction_force(c.rim_force.norm(), slip_v, c.slip_normal, f.mu, f.vs)

@@ -276,6 +276,7 @@ impl Head {
                     p.numerics.p_reg,
                     p.chipping.pressure_scale_in_use(),
                 )
+                .turning_freely()
             })
             .collect();
         let state = HeadState {

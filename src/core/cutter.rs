@@ -250,16 +250,12 @@ impl PosedDisc {
         }
         // g and its slope together: they share the point and both square
         // roots (the same values `rho` and a separate slope would compute)
-        let r = self.tip_radius;
         let gd = |t: f64| {
             let q = a + d * t;
             let m0 = (q.x * q.x + q.z * q.z).sqrt();
-            let y = q.y.clamp(-h, h);
-            let s2 = r * r - y * y;
-            let sq = s2.max(0.0).sqrt();
-            let root = if s2 >= 1e-300 { sq } else { 1e-300f64.sqrt() };
-            let g = m0 - (self.radius - r + sq);
-            (g, (q.x * d.x + q.z * d.z) / m0.max(1e-300) + y / root * d.y)
+            let (rho, fall) = self.tip_profile(q.y);
+            let g = m0 - rho;
+            (g, (q.x * d.x + q.z * d.z) / m0.max(1e-300) + fall * d.y)
         };
         if start == t1 && gd(t1).0 <= 0.0 {
             let qy = a.y + d.y * t1;
@@ -284,6 +280,20 @@ impl PosedDisc {
         let inn = first_root(gd, t, gt, st, t2.min(cap))?;
         let qy = (a.y + d.y * inn).clamp(-h, h);
         Some((inn, Face::Rim { y: qy }))
+    }
+
+    /// The tip profile at axle coordinate `y` (clamped to the tip): its
+    /// radius and how fast it falls with `y` (`y / sqrt(r^2 - y^2)`, kept
+    /// finite at the edge), the slope the Newton solves of the lower
+    /// boundary need.
+    #[inline]
+    fn tip_profile(&self, y: f64) -> (f64, f64) {
+        let (h, r) = (self.half_width, self.tip_radius);
+        let y = y.clamp(-h, h);
+        let s2 = r * r - y * y;
+        let sq = s2.max(0.0).sqrt();
+        let root = if s2 >= 1e-300 { sq } else { 1e-300f64.sqrt() };
+        (self.radius - r + sq, y / root)
     }
 
     /// The lowest rock height at which the solid meets the vertical plane
@@ -334,17 +344,10 @@ impl PosedDisc {
         } else if w0.abs() > big {
             return None;
         }
-        let r = self.tip_radius;
         let gd = |t: f64| {
             let w = w0 + w1 * t;
-            let y = (a.y + d.y * t).clamp(-h, h);
-            let s2 = r * r - y * y;
-            let sq = s2.max(0.0).sqrt();
-            let root = if s2 >= 1e-300 { sq } else { 1e-300f64.sqrt() };
-            (
-                w.abs() - (self.radius - r + sq),
-                w1.copysign(w) + y / root * d.y,
-            )
+            let (rho, fall) = self.tip_profile(a.y + d.y * t);
+            (w.abs() - rho, w1.copysign(w) + fall * d.y)
         };
         let (gt, st) = gd(start);
         if gt <= 0.0 {

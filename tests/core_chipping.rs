@@ -215,7 +215,10 @@ fn the_relieved_cut_saw_tooths_and_the_unrelieved_one_does_not() {
     let (c_on, c_off) = (cv(&on), cv(&off));
     eprintln!("normal-force CV: chips {c_on:.3}, none {c_off:.4}");
     assert!(c_off < 0.01, "{c_off}");
-    assert!(c_on > 0.05, "{c_on}");
+    // no disc LCM CV was reachable (shared/research/lcm-data.md); traces of
+    // relieved cuts swing between about half and twice the mean and do not
+    // drop to zero between chips, a CV of roughly 0.1-0.4 (0.24 here)
+    assert!(c_on > 0.05 && c_on < 0.5, "{c_on}");
     assert!(mean(&on, |o| o.normal_force) < mean(&off, |o| o.normal_force));
 }
 

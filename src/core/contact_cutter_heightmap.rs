@@ -529,9 +529,8 @@ fn march_from(
         // by round-off)
         let at_top = k == n && reach < std::f64::consts::PI;
         if ahead <= 0.0 || at_top {
-            // The step is walked again at half a cell of rim (as the start
-            // is searched), so that the end is the first exit to that
-            // resolution: where the rim grazes rock cut earlier, the rock
+            // The step is walked again at one cell of rim, so that the end
+            // is the first exit to that resolution: where the rim grazes rock cut earlier, the rock
             // over it can dip to zero and back inside one step, and
             // refining the step's bracket found either exit as the pose
             // moved by round-off.
@@ -553,11 +552,8 @@ fn march_from(
             if out.is_some() || !at_top {
                 break out.or(Some((t, ahead)));
             }
-            // inside up to the top: the arc ends there
-            u_max = u_max.max(here);
-            t_prev = t;
-            u_prev = ahead;
-            break None;
+            // inside up to the top: the arc ends there (k = n, so the
+            // walk's next turn ends it)
         }
         u_max = u_max.max(here);
         t_prev = t;

@@ -157,6 +157,88 @@ impl Track for Circle {
     }
 }
 
+/// A gauge cutter's track without the head: a disc rolled by `roll` on a
+/// circle of radius `radius` (counter-clockwise about a centre to the
+/// disc's left; `radius` 0: a straight line), heading `yaw` to the grid at
+/// the start, its lowest point `depth` deep, at `speed`, turning with the
+/// track. A negative `roll` leans the tip away from the centre, as the
+/// contract's gauge cutters lean outwards (interface.md).
+pub struct TiltedArc {
+    pub prm: Params,
+    pub yaw: f64,
+    pub roll: f64,
+    pub depth: f64,
+    pub radius: f64,
+    pub speed: f64,
+}
+
+impl Track for TiltedArc {
+    fn pose(&self, s: f64) -> Pose {
+        // start 0.1 m before the face's centre
+        let s = s - 0.1;
+        let (sn, c) = self.yaw.sin_cos();
+        if self.radius == 0.0 {
+            return pose_with_lowest_point(
+                &self.prm,
+                s * c,
+                s * sn,
+                self.depth,
+                self.yaw,
+                self.roll,
+            );
+        }
+        let (cx, cy) = (-sn * self.radius, c * self.radius);
+        let a = self.yaw - std::f64::consts::FRAC_PI_2 + s / self.radius;
+        pose_with_lowest_point(
+            &self.prm,
+            cx + self.radius * a.cos(),
+            cy + self.radius * a.sin(),
+            self.depth,
+            a + std::f64::consts::FRAC_PI_2,
+            self.roll,
+        )
+    }
+    fn twist(&self, s: f64) -> Twist {
+        let yaw_rate = if self.radius == 0.0 {
+            0.0
+        } else {
+            self.speed / self.radius
+        };
+        rolling_twist(&self.prm, &self.pose(s), self.speed, yaw_rate)
+    }
+}
+
+/// The gauge scene (`TiltedArc` rolled by `tilt`, heading 30 deg to the
+/// grid, through fresh rock on a 0.7 m square face at cells of `cell` and
+/// sweep steps of `sweep`, 1 ms steps): the mean over 0.15-0.28 m of a
+/// 0.3 m pass, and the side faces' share of the cutting force at its last
+/// pose (cutter frame: normal, rolling, side).
+pub fn gauge(
+    cell: f64,
+    sweep: f64,
+    depth: f64,
+    tilt: f64,
+    radius: f64,
+    speed: f64,
+) -> (Mean, [f64; 3]) {
+    let mut prm = face(cell, -0.35, 0.35, -0.35, 0.35);
+    prm.numerics.sweep_step = sweep;
+    let t = TiltedArc {
+        prm: prm.clone(),
+        yaw: 30f64.to_radians(),
+        roll: tilt,
+        depth,
+        radius,
+        speed,
+    };
+    let mut m = Model::new(prm).unwrap();
+    let mean = roll(&mut m, &t, 0.3, 1e-3 * speed, 0.15, 0.28);
+    let end = t.pose(0.3);
+    let mut c = m.contact(&end, &t.twist(0.3));
+    c.rim_force = Vector3::zeros();
+    (mean, cutting_force(&end, &c))
+}
+
 /// Rolls along `track` from `s = 0` to `length` in steps of `h` metres,
 /// each step a Co-Simulation step that ends exactly on the track (the pose
 /// is set from the track, the path between cut by the model), and averages

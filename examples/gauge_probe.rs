@@ -3,8 +3,11 @@
 //! RADIUS (0: straight) through fresh rock DEPTH deep at SPEED. Prints the
 //! mean cutter-frame forces (friction left out) and, at the last pose, the
 //! rim's and the side face's shares.
-//! `cargo run --release --example gauge_probe -- [ROLL_DEG DEPTH_MM RADIUS_M SPEED_M_S]`
-//! (default -60 6 4.83 1.5: the reference head's outer gauge cutter, docs/head.md).
+//! `cargo run --release --example gauge_probe -- [ROLL_DEG DEPTH_MM RADIUS_M SPEED_M_S FLANK_DEG]`
+//! (default -60 6 4.83 1.5 0: the reference head's outer gauge cutter with
+//! the thesis's flat-sided section, docs/head.md; FLANK_DEG > 0: the
+//! flanked section of docs/flanks.md, whose 0.25 mm row is left out: it
+//! asks more of one step than a call may scan).
 use kerf::scenes::*;
 
 fn main() {
@@ -19,7 +22,13 @@ fn main() {
         arg(2, 4.83),
         arg(3, 1.5),
     );
-    println!("| cells mm | sweep mm | F_N kN | F_R kN | F_S kN | of which side face, F_S at the end kN |");
+    let flank = arg(4, 0.0);
+    let disc = if flank > 0.0 {
+        flanked_cutter(flank)
+    } else {
+        kerf::core::params::CutterParams::default()
+    };
+    println!("| cells mm | sweep mm | F_N kN | F_R kN | F_S kN | of which side face and flanks, F_S at the end kN |");
     println!("|---|---|---|---|---|---|");
     for (cell, sweep) in [
         (0.25e-3, 0.25e-3),
@@ -29,7 +38,10 @@ fn main() {
         (1e-3, 2e-3),
         (2e-3, 2e-3),
     ] {
-        let (m, face) = gauge(cell, sweep, depth, tilt, radius, speed);
+        if flank > 0.0 && cell < 0.5e-3 {
+            continue;
+        }
+        let (m, face) = gauge(&disc, cell, sweep, depth, tilt, radius, speed);
         println!(
             "| {} | {} | {:.1} | {:.2} | {:.2} | {:.1} |",
             cell * 1e3,

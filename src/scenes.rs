@@ -208,7 +208,7 @@ impl Track for TiltedArc {
     }
 }
 
-/// The gauge scene (`TiltedArc` rolled by `tilt`, heading 30 deg to the
+/// The gauge scene for the disc `cutter` (`TiltedArc` rolled by `tilt`, heading 30 deg to the
 /// grid, through fresh rock on a 0.7 m square face at cells of `cell` and
 /// sweep steps of `sweep`, steps of 1 ms of travel): the mean over
 /// 0.15-0.28 m of a 0.3 m pass, and the side faces' share of the cutting
@@ -217,6 +217,7 @@ impl Track for TiltedArc {
 /// other speeds only the energy bookkeeping, which this scene does not
 /// read, sees the difference.)
 pub fn gauge(
+    cutter: &CutterParams,
     cell: f64,
     sweep: f64,
     depth: f64,
@@ -226,6 +227,7 @@ pub fn gauge(
 ) -> (Mean, [f64; 3]) {
     let mut prm = face(cell, -0.35, 0.35, -0.35, 0.35);
     prm.numerics.sweep_step = sweep;
+    prm.cutter = *cutter;
     let t = TiltedArc {
         prm: prm.clone(),
         yaw: 30f64.to_radians(),

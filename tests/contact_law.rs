@@ -231,7 +231,8 @@ fn forces_converge_with_the_cell_size() {
 /// 4.83 m track, cells and sweep steps of `cell`. Mean cutting force
 /// (normal, rolling, side) over the pass.
 fn gauge_cutter(cell: f64) -> [f64; 3] {
-    gauge(cell, cell, 6e-3, -60f64.to_radians(), 4.83, 1.5)
+    let disc = kerf::core::params::CutterParams::default();
+    gauge(&disc, cell, cell, 6e-3, -60f64.to_radians(), 4.83, 1.5)
         .0
         .cutting
 }

@@ -91,19 +91,25 @@ def main():
     print(f"  radial imbalance |Fx, Fy|: mean {fxy.mean() / 1e3:.1f} kN, peak {fxy.max() / 1e3:.1f} kN")
     print(f"  overturning moment |Mx, My| about the head centre: mean {mxy.mean() / 1e3:.1f} kN.m, "
           f"peak {mxy.max() / 1e3:.1f} kN.m")
+    tilted = any(cut["tiltDeg"] != 0 for cut in lay["cutters"])
+    if tilted:
+        print("  (the tilted discs' side forces enter both, and they are not converged in the cell size:\n"
+              "   docs/head.md, 'Gauge cutters on curved tracks')")
     print("\nper disc, last revolution (by track radius):")
-    print("  disc  track[m]  tilt  mean F_N[kN]  peak F_N[kN]  CSM F_N[kN]  mean F_R[kN]  mean p[mm]")
+    print("  disc  track[m]  tilt  mean F_N[kN]  peak F_N[kN]  CSM F_N[kN]  mean F_R[kN]  mean F_S[kN]  mean p[mm]")
     order = np.argsort(tracks)
     rows = []
     for i in order:
         nf = c(f"cutter[{i + 1}].normalForce")[last]
         rf = c(f"cutter[{i + 1}].rollingForce")[last]
+        sf = c(f"cutter[{i + 1}].sideForce")[last]
         pp = c(f"cutter[{i + 1}].penetration")[last]
         rows.append(dict(disc=int(i + 1), track=float(tracks[i]), tilt=lay["cutters"][i]["tiltDeg"],
                          mean_fn=float(nf.mean()), peak_fn=float(nf.max()), csm_fn=float(fn[i]),
-                         mean_fr=float(rf.mean()), mean_p=float(pp.mean())))
+                         mean_fr=float(rf.mean()), mean_fs=float(sf.mean()), mean_p=float(pp.mean())))
         print(f"  {i + 1:4d}  {tracks[i]:8.3f}  {lay['cutters'][i]['tiltDeg']:4g}  {nf.mean() / 1e3:12.1f}  "
-              f"{nf.max() / 1e3:12.1f}  {fn[i] / 1e3:11.1f}  {rf.mean() / 1e3:12.2f}  {pp.mean() * 1e3:10.2f}")
+              f"{nf.max() / 1e3:12.1f}  {fn[i] / 1e3:11.1f}  {rf.mean() / 1e3:12.2f}  {sf.mean() / 1e3:12.2f}  "
+              f"{pp.mean() * 1e3:10.2f}")
     summary = dict(layout=lay["name"], steady_start=a.steady, discs=n, bore_diameter=bore_d, rpm=rpm, p_rev=a.p_rev, revs=a.revs,
                    step=h, wall_s=wall, thrust=thrust, torque=torque, csm_sum_fn=sum_fn,
                    csm_sum_fr_r=sum_frr, csm_shortcut=shortcut, imbalance_mean=float(fxy.mean()),

@@ -208,14 +208,15 @@ impl Track for TiltedArc {
     }
 }
 
-/// The gauge scene for the disc `cutter` (`TiltedArc` rolled by `tilt`, heading 30 deg to the
-/// grid, through fresh rock on a 0.7 m square face at cells of `cell` and
-/// sweep steps of `sweep`, steps of 1 ms of travel): the mean over
-/// 0.15-0.28 m of a 0.3 m pass, and the side faces' share of the cutting
-/// force at its last pose (cutter frame: normal, rolling, side). (`roll`
-/// hands the model each step's travel as its time step, right at 1 m/s; at
-/// other speeds only the energy bookkeeping, which this scene does not
-/// read, sees the difference.)
+/// The gauge scene for the disc `cutter`: a `TiltedArc` rolled by `tilt`,
+/// heading 30 deg to the grid, through fresh rock on a 0.7 m square face
+/// at cells of `cell` and sweep steps of `sweep`, in steps of 1 ms of
+/// travel. Returns the mean over 0.15-0.28 m of a 0.3 m pass, and the side
+/// faces' (and flanks') share of the cutting force at its last pose
+/// (cutter frame: normal, rolling, side). (`roll` hands the model each
+/// step's travel as its time step, right at 1 m/s; at other speeds only the
+/// energy bookkeeping, which this scene does not read, sees the
+/// difference.)
 pub fn gauge(
     cutter: &CutterParams,
     cell: f64,

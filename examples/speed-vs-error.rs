@@ -42,7 +42,8 @@ use kerf::core::contact_bruteforce::Resolution;
 use kerf::core::cutter::PosedDisc;
 use kerf::core::{Model, Outputs, Params, Pose, Twist};
 use kerf::scenes::{
-    beside_plan, cutting_force, fresh_plan, lap_plan, rolled, Mean, Plan, Track, P_REF, WINDOW,
+    beside_plan, cutting_force, fresh_plan, gauge_plan, lap_plan, rolled, Mean, Plan, Track, P_REF,
+    WINDOW,
 };
 use nalgebra::Vector3;
 use serde_json::{json, Value};
@@ -383,6 +384,13 @@ fn scene_defs() -> Vec<(String, &'static str, PlanAt)> {
             Box::new(move |c| lap_plan(c, P_REF, r, true)),
         ));
     }
+    // a gauge cutter: tilted, turning on its track (docs/head.md, "Gauge
+    // cutters on curved tracks": its side force does not converge)
+    v.push((
+        "gauge 60°, r = 4.83 m".into(),
+        "gauge",
+        Box::new(|c| gauge_plan(c, P_REF, -60f64.to_radians(), 4.83)),
+    ));
     v
 }
 

@@ -226,23 +226,45 @@ pub fn gauge(
     radius: f64,
     speed: f64,
 ) -> (Mean, [f64; 3]) {
-    let mut prm = face(cell, -0.35, 0.35, -0.35, 0.35);
+    let mut prm = gauge_face(cell);
     prm.numerics.sweep_step = sweep;
     prm.cutter = *cutter;
-    let t = TiltedArc {
-        prm: prm.clone(),
-        yaw: 30f64.to_radians(),
-        roll: tilt,
-        depth,
-        radius,
-        speed,
-    };
+    let t = gauge_arc(&prm, depth, tilt, radius, speed);
     let mut m = Model::new(prm).unwrap();
     let mean = roll(&mut m, &t, 0.3, 1e-3 * speed, 0.15, 0.28);
     let end = t.pose(0.3);
     let mut c = m.contact(&end, &t.twist(0.3));
     c.rim_force = Vector3::zeros();
     (mean, cutting_force(&end, &c))
+}
+
+/// The gauge scenes' face: a 0.7 m square about the origin, cells of `cell`.
+fn gauge_face(cell: f64) -> Params {
+    face(cell, -0.35, 0.35, -0.35, 0.35)
+}
+
+/// The gauge scenes' track: heading 30 deg to the grid, rolled by `tilt`.
+fn gauge_arc(prm: &Params, depth: f64, tilt: f64, radius: f64, speed: f64) -> TiltedArc {
+    TiltedArc {
+        prm: prm.clone(),
+        yaw: 30f64.to_radians(),
+        roll: tilt,
+        depth,
+        radius,
+        speed,
+    }
+}
+
+/// [`gauge`]'s scene for the default disc as a [`Plan`] like the others
+/// (1 m/s, one pass of [`PASS`], measured over [`WINDOW`]), for the
+/// speed-vs-error report.
+pub fn gauge_plan(cell: f64, depth: f64, tilt: f64, radius: f64) -> Plan {
+    let prm = gauge_face(cell);
+    let t = gauge_arc(&prm, depth, tilt, radius, 1.0);
+    Plan {
+        prm,
+        passes: vec![(Box::new(t), PASS)],
+    }
 }
 
 /// Rolls along `track` from `s = 0` to `length` in steps of `h` metres,

@@ -220,7 +220,9 @@ def scene_markdown(summary, data, L):
         "**tilted g**: the same cut with the disc rolled by g. **beside groove, d**: a second "
         "pass d beside a 3.8 mm groove cut first (a partial cut). **re-roll**: a second pass "
         "over the pass's own groove (straight, or a second lap of a curved track). **curved r, "
-        "fresh lap**: one lap of an r-radius track on fresh rock.\n"
+        "fresh lap**: one lap of an r-radius track on fresh rock. **gauge g, r**: a gauge cutter, rolled by g "
+        "with its tip leaning away from the centre of an r-radius track, heading 30° to the grid on fresh rock "
+        "(its side face shaves a thin wedge off the wall; docs/head.md, \"Gauge cutters on curved tracks\").\n"
     )
     L.append(
         f"Forces (the FMU's outputs, friction included) at the default 1 mm cells, and the error of each component against the same "

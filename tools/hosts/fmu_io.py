@@ -1,5 +1,6 @@
 """Helpers shared by the head drivers: the FMU's output names (Real outputs,
-from modelDescription.xml), the input table of a CSV, ZOH lookup."""
+from modelDescription.xml), the input table of a CSV, ZOH lookup, and an
+fmpy Co-Simulation slave set up from such a table."""
 import csv
 import xml.etree.ElementTree as ET
 import zipfile
@@ -62,3 +63,26 @@ def run_args(argv):
     stop = float(argv[0]) if len(argv) > 0 else 0.2
     h = float(argv[1]) if len(argv) > 1 else 1e-3
     return stop, h, parse_starts(argv[2:])
+
+
+def cs_slave(fmu, names, rows, starts=None):
+    """An fmpy Co-Simulation slave of `fmu`, initialised with the start
+    values `starts` (name -> value) and the first row of an input table
+    (`read_inputs`'s names and rows): (slave, value reference by name).
+    fmpy is imported here, so the drivers that do not need it need not
+    have it."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+
+    md = read_model_description(fmu)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    f = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu),
+                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName="h")
+    f.instantiate()
+    f.setupExperiment(startTime=0.0)
+    f.enterInitializationMode()
+    for k, v in (starts or {}).items():
+        f.setReal([vr[k]], [float(v)])
+    f.setReal([vr[x] for x in names], rows[0][1:])
+    f.exitInitializationMode()
+    return f, vr

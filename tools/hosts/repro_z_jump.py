@@ -9,28 +9,18 @@ STEP*h) moves by dz, every step taken from the same FMU state
 and disc DISC's normalForce, rollingForce, sideForce, penetration and
 contactAngle for each dz (default: 0, 1e-15, -1e-15, 1e-12 m).
 """
-import csv
+import os
 import sys
 
-from fmpy import extract, read_model_description
-from fmpy.fmi2 import FMU2Slave
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fmu_io import cs_slave, read_inputs  # noqa: E402
 
 fmu, incsv = sys.argv[1], sys.argv[2]
 K = int(sys.argv[3]) if len(sys.argv) > 3 else 127
 disc = int(sys.argv[4]) if len(sys.argv) > 4 else 2
 DZ = [float(x) for x in sys.argv[5].split(",")] if len(sys.argv) > 5 else [0.0, 1e-15, -1e-15, 1e-12]
-md = read_model_description(fmu)
-d = extract(fmu)
-vr = {v.name: v.valueReference for v in md.modelVariables}
-rows = list(csv.reader(open(incsv)))
-names = rows[0][1:]
-data = [[float(x) for x in r] for r in rows[1:]]
-f = FMU2Slave(guid=md.guid, unzipDirectory=d, modelIdentifier=md.coSimulation.modelIdentifier, instanceName="h")
-f.instantiate()
-f.setupExperiment(startTime=0.0)
-f.enterInitializationMode()
-f.setReal([vr[x] for x in names], data[0][1:])
-f.exitInitializationMode()
+names, data = read_inputs(incsv)
+f, vr = cs_slave(fmu, names, data)
 h = data[1][0] - data[0][0]
 iz = names.index("z")
 for k in range(K - 1):

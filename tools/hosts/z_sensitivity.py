@@ -9,33 +9,21 @@ value, with the step where it happens.
 usage: z_sensitivity.py HEAD.fmu BORE.csv [dz=1e-15] [NAME=VALUE ...]
    or: z_sensitivity.py kerf.fmu roll.csv [dz]   (run-all.sh's rolling scenario)
 """
-import csv
+import os
 import sys
 
 import numpy as np
-from fmpy import extract, read_model_description
-from fmpy.fmi2 import FMU2Slave
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fmu_io import cs_slave, parse_starts, read_inputs  # noqa: E402
 
 fmu, incsv = sys.argv[1:3]
 dz = float(sys.argv[3]) if len(sys.argv) > 3 else 1e-15
-starts = dict(a.split("=") for a in sys.argv[4:])
-md = read_model_description(fmu)
-d = extract(fmu)
-vr = {v.name: v.valueReference for v in md.modelVariables}
-rows = list(csv.reader(open(incsv)))
-names = rows[0][1:]
-data = [[float(x) for x in r] for r in rows[1:]]
-n = sum(1 for v in md.modelVariables if v.name.startswith("cutter[") and v.name.endswith(".normalForce"))
+names, data = read_inputs(incsv)
+f, vr = cs_slave(fmu, names, data, parse_starts(sys.argv[4:]))
+n = sum(1 for k in vr if k.startswith("cutter[") and k.endswith(".normalForce"))
 O = [x for x in ("thrust", "torque", "normalForce", "rollingForce") if x in vr] + \
     [f"cutter[{i + 1}].normalForce" for i in range(n)]
-f = FMU2Slave(guid=md.guid, unzipDirectory=d, modelIdentifier=md.coSimulation.modelIdentifier, instanceName="h")
-f.instantiate()
-f.setupExperiment(startTime=0.0)
-f.enterInitializationMode()
-for k, v in starts.items():
-    f.setReal([vr[k]], [float(v)])
-f.setReal([vr[x] for x in names], data[0][1:])
-f.exitInitializationMode()
 h = data[1][0] - data[0][0]
 iz = names.index("z")
 worst = np.zeros(len(O))

@@ -10,8 +10,8 @@
 //! with their errors, and the largest error of a disc's mean normal and side
 //! force, relative to that disc's mean normal force. `DETAIL=1` adds every
 //! disc's mean forces against the reference's (stderr).
-use kerf::core::head::{default_rock, DiscSpec, Head};
-use kerf::core::{layout, Params, Pose, Twist};
+use kerf::core::head::{default_params, DiscSpec, Head};
+use kerf::core::{layout, Pose, Twist};
 use std::time::Instant;
 
 struct Run {
@@ -24,12 +24,7 @@ struct Run {
 
 fn run(file: &str, cell: f64, sweep: f64, steps: usize, rpm: f64, p_rev: f64) -> Run {
     let lay = layout::load(std::path::Path::new(file)).unwrap();
-    let (half, _) = default_rock(&lay);
-    let nodes = (2.0 * half / cell).round() as usize + 1;
-    let half = 0.5 * cell * (nodes - 1) as f64;
-    let mut p = Params::default();
-    (p.rock.x_min, p.rock.x_max, p.rock.y_min, p.rock.y_max) = (-half, half, -half, half);
-    (p.rock.nx, p.rock.ny) = (nodes, nodes);
+    let mut p = default_params(&lay, cell);
     p.numerics.sweep_step = sweep;
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
     let n = specs.len();

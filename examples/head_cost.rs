@@ -3,8 +3,8 @@
 //! `cargo run --release --example head_cost -- layouts/reference-9.72m.json [h] [steps] [rpm] [p_rev] [sweep_step]`
 //! Prints the median wall time per step and per disc-step (set
 //! RAYON_NUM_THREADS for the thread count).
-use kerf::core::head::{default_rock, DiscSpec, Head};
-use kerf::core::{layout, Params, Pose, Twist};
+use kerf::core::head::{default_params, DiscSpec, Head};
+use kerf::core::{layout, Pose, Twist};
 use std::time::Instant;
 
 fn main() {
@@ -18,10 +18,7 @@ fn main() {
         num(4, 0.006),
     );
     let lay = layout::load(std::path::Path::new(file)).unwrap();
-    let (half, nodes) = default_rock(&lay);
-    let mut p = Params::default();
-    (p.rock.x_min, p.rock.x_max, p.rock.y_min, p.rock.y_max) = (-half, half, -half, half);
-    (p.rock.nx, p.rock.ny) = (nodes, nodes);
+    let mut p = default_params(&lay, 1e-3);
     if let Some(s) = a.get(5) {
         p.numerics.sweep_step = s.parse().unwrap();
     }

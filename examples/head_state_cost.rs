@@ -9,8 +9,8 @@
 //! a step right after a restore, and a step while a saved state is held
 //! (their writes copy the tiles they share with the saved state); the state's serialized size and the time to write
 //! and read it. Set RAYON_NUM_THREADS for the thread count.
-use kerf::core::head::{default_rock, DiscSpec, Head, HeadState};
-use kerf::core::{layout, Params, Pose, Twist};
+use kerf::core::head::{default_params, DiscSpec, Head, HeadState};
+use kerf::core::{layout, Pose, Twist};
 use std::time::Instant;
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -27,10 +27,7 @@ fn main() {
     let r_max: f64 = a.get(3).map_or(f64::INFINITY, |s| s.parse().unwrap());
     let mut lay = layout::load(std::path::Path::new(file)).unwrap();
     lay.cutters.retain(|c| c.track <= r_max);
-    let (half, nodes) = default_rock(&lay);
-    let mut p = Params::default();
-    (p.rock.x_min, p.rock.x_max, p.rock.y_min, p.rock.y_max) = (-half, half, -half, half);
-    (p.rock.nx, p.rock.ny) = (nodes, nodes);
+    let p = default_params(&lay, 1e-3);
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
     let mut head = Head::new(p.clone(), specs).unwrap();
     head.steady_start(p_rev).unwrap();

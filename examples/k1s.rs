@@ -2,17 +2,14 @@
 //! steps; every step is taken twice from the same state, with the head's z
 //! and z + dz; prints the largest relative change of thrust and of any
 //! disc's normal force (the core side of tools/hosts/z_sensitivity.py).
-use kerf::core::head::{default_rock, DiscSpec, Head};
-use kerf::core::{layout, Params, Pose, Twist};
+use kerf::core::head::{default_params, DiscSpec, Head};
+use kerf::core::{layout, Pose, Twist};
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
     let dz: f64 = a.first().map_or(1e-15, |s| s.parse().unwrap());
     let steps: usize = a.get(1).map_or(200, |s| s.parse().unwrap());
     let lay = layout::load(std::path::Path::new("layouts/demo-1.2m.json")).unwrap();
-    let (half, nodes) = default_rock(&lay);
-    let mut p = Params::default();
-    (p.rock.x_min, p.rock.x_max, p.rock.y_min, p.rock.y_max) = (-half, half, -half, half);
-    (p.rock.nx, p.rock.ny) = (nodes, nodes);
+    let p = default_params(&lay, 1e-3);
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
     let mut head = Head::new(p, specs).unwrap();
     let w = 10.0 * 2.0 * std::f64::consts::PI / 60.0;

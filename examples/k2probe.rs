@@ -1,7 +1,7 @@
 //! K2 probe: the torque of a head and its gauge discs' rolling forces, with
 //! the default friction and without (MU=0): `k2probe LAYOUT RPM STEADY(0/1) STEPS`.
-use kerf::core::head::{default_rock, DiscSpec, Head};
-use kerf::core::{layout, Params, Pose, Twist};
+use kerf::core::head::{default_params, DiscSpec, Head};
+use kerf::core::{layout, Pose, Twist};
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
     let file = a.first().map_or("layouts/demo-1.2m.json", |s| s);
@@ -9,10 +9,7 @@ fn main() {
     let steady = a.get(2).is_some_and(|s| s == "1");
     let steps: usize = a.get(3).map_or(200, |s| s.parse().unwrap());
     let lay = layout::load(std::path::Path::new(file)).unwrap();
-    let (half, nodes) = default_rock(&lay);
-    let mut p = Params::default();
-    (p.rock.x_min, p.rock.x_max, p.rock.y_min, p.rock.y_max) = (-half, half, -half, half);
-    (p.rock.nx, p.rock.ny) = (nodes, nodes);
+    let mut p = default_params(&lay, 1e-3);
     if let Ok(m) = std::env::var("MU") {
         p.friction.mu = m.parse().unwrap();
     }

@@ -1,7 +1,7 @@
 //! Layout files: the contract's example parses; bad files are rejected with
 //! messages that name the file, the cutter and the key.
 
-use kerf::core::head::{default_rock, DiscSpec, Head};
+use kerf::core::head::{default_params, default_rock, DiscSpec, Head};
 use kerf::core::layout::{load, parse};
 use kerf::core::Params;
 
@@ -151,4 +151,25 @@ fn shipped_layouts_parse() {
         }
     }
     assert!(n >= 2, "layouts/ holds {n} layouts");
+}
+
+#[test]
+fn default_params_keep_the_default_rock_square_at_any_dividing_cell() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "json") {
+            let l = load(&p).unwrap();
+            let (half, n) = default_rock(&l);
+            for (cell, nodes) in [(1e-3, n), (0.5e-3, 2 * n - 1), (2e-3, (n - 1) / 2 + 1)] {
+                let r = default_params(&l, cell).rock;
+                assert_eq!(
+                    (r.nx, r.ny, r.x_min, r.x_max, r.y_min, r.y_max),
+                    (nodes, nodes, -half, half, -half, half),
+                    "{} at {cell} m",
+                    p.display()
+                );
+            }
+        }
+    }
 }

@@ -217,6 +217,18 @@ pub fn default_rock(layout: &Layout) -> (f64, usize) {
     (half, nodes)
 }
 
+/// Default parameters on the layout's default rock ([`default_rock`]'s
+/// square) at cells of `cell` (1 mm: that rock exactly; a cell that divides
+/// its side, such as 0.5 or 2 mm, keeps the square).
+pub fn default_params(layout: &Layout, cell: f64) -> Params {
+    let (half, _) = default_rock(layout);
+    let nodes = (2.0 * half / cell).round() as usize + 1;
+    let mut p = Params::default();
+    (p.rock.x_min, p.rock.x_max, p.rock.y_min, p.rock.y_max) = (-half, half, -half, half);
+    (p.rock.nx, p.rock.ny) = (nodes, nodes);
+    p
+}
+
 impl Head {
     /// Checks the shared parameters and every disc (messages name
     /// `cutter[i].key`), and builds the face.

@@ -10,9 +10,9 @@
 //! seconds per sweep, about 10 s for the convergence runs in release). Where
 //! the tilt sweep steps most the brute-force oracle steps as much or more
 //! (2.7 % at 31 -> 31.5 deg), so its 2 % asks for more than the reference.
-//! The gauge-cutter test (a tilted disc turning on its track) fails by far
-//! more: the thin wedge its side face shaves counts as far as the
-//! look-ahead reaches, which scales with the cells (docs/head.md).
+//! The gauge cutter (a tilted disc turning on its track) converges in its
+//! side force; its normal force misses the 0.5 mm tolerance (1.1 %) where
+//! the track crosses the grid at an angle.
 
 use kerf::core::contact_bruteforce::Resolution;
 use kerf::scenes::*;
@@ -237,15 +237,42 @@ fn gauge_cutter(cell: f64) -> [f64; 3] {
         .cutting
 }
 
-#[test]
-#[ignore = "fails: the side force at 0.5 mm cells is 38 % of F_N off the 0.25 mm result (-67.0 against -48.7 kN), at 1 mm 9.4 % (-44.2): the side face's thin wedge on a curved track counts as far as the 4-cell look-ahead reaches (docs/head.md)"]
-fn a_gauge_cutter_on_a_curved_track_converges_with_the_cell_size() {
+/// The largest difference, over the 0.25 mm result's normal force, of the
+/// gauge cutter's force components `comps` at 0.5 and 1 mm cells from the
+/// 0.25 mm result.
+fn gauge_cutter_convergence(comps: &[usize]) -> [f64; 2] {
     let fine = gauge_cutter(0.25e-3);
-    let fn_ = fine[0];
-    for (cell, tol) in [(0.5e-3, 0.005), (1e-3, 0.02)] {
+    [0.5e-3, 1e-3].map(|cell| {
         let c = gauge_cutter(cell);
-        let e = (0..3).map(|i| (c[i] - fine[i]).abs()).fold(0.0, f64::max) / fn_;
+        let e = comps
+            .iter()
+            .map(|&i| (c[i] - fine[i]).abs())
+            .fold(0.0, f64::max)
+            / fine[0];
         eprintln!("{} mm: {c:?} against {fine:?}: {e:.4} of F_N", cell * 1e3);
-        assert!(e < tol, "{} mm cells: {e} of F_N", cell * 1e3);
-    }
+        e
+    })
+}
+
+#[test]
+fn a_gauge_cutters_side_force_on_a_curved_track_converges_with_the_cell_size() {
+    // the side face shaves a thin wedge off the wall while the disc turns;
+    // how much of it counts is the still-there test's, whose scale stays
+    // put below 1 mm cells. Measured: 0.1 % of F_N at 0.5 mm, 1.8 % at 1 mm
+    // (before: 38 % and 9.4 %, the scale shrinking with the cells)
+    let [half, one] = gauge_cutter_convergence(&[2]);
+    assert!(
+        half < 0.005 && one < 0.02,
+        "0.5 mm {half}, 1 mm {one} of F_N"
+    );
+}
+
+#[test]
+#[ignore = "fails: the normal force at 0.5 mm cells is 1.1 % of F_N off the 0.25 mm result (47.1 against 47.6 kN), at 1 mm 1.7 %: the tilted groove's walls across a grid the track crosses at 30 deg (the same disc straight along the grid converges, tilt 60 in forces_converge_with_the_cell_size)"]
+fn a_gauge_cutter_on_a_curved_track_converges_with_the_cell_size() {
+    let [half, one] = gauge_cutter_convergence(&[0, 1, 2]);
+    assert!(
+        half < 0.005 && one < 0.02,
+        "0.5 mm {half}, 1 mm {one} of F_N"
+    );
 }

@@ -93,8 +93,8 @@ def main():
           f"peak {mxy.max() / 1e3:.1f} kN.m")
     tilted = any(cut["tiltDeg"] != 0 for cut in lay["cutters"])
     if tilted:
-        print("  (the tilted discs' side forces enter both, and they are not converged in the cell size:\n"
-              "   docs/head.md, 'Gauge cutters on curved tracks')")
+        print("  (the tilted discs' side forces enter both; they are the flat-sided thesis disc's\n"
+              "   unless cutter.flankAngle gives the discs flanks: docs/head.md, 'Gauge cutters on curved tracks')")
     print("\nper disc, last revolution (by track radius):")
     print("  disc  track[m]  tilt  mean F_N[kN]  peak F_N[kN]  CSM F_N[kN]  mean F_R[kN]  mean F_S[kN]  mean p[mm]")
     order = np.argsort(tracks)

@@ -34,7 +34,8 @@ pub struct Resolution {
     pub ds: f64,
     /// Rim circles across the tip.
     pub slices: usize,
-    /// Circles across a tilted disc's lower side face.
+    /// Circles across a tilted disc's lower side face, over the part of it
+    /// that reaches below the highest rock under the disc.
     pub rings: usize,
     /// Circles along each flank, over the part of it that reaches below the
     /// highest rock under the disc (flanked discs only).
@@ -42,13 +43,13 @@ pub struct Resolution {
 }
 
 impl Default for Resolution {
-    /// 0.05 mm of arc, 101 slices (0.13 mm apart), 60 rings, 200 bands
+    /// 0.05 mm of arc, 101 slices (0.13 mm apart), 200 rings, 200 bands
     /// along each flank.
     fn default() -> Self {
         Self {
             ds: 5e-5,
             slices: 101,
-            rings: 60,
+            rings: 200,
             flank_bands: 200,
         }
     }
@@ -82,28 +83,40 @@ pub fn contact_brute(
             )
         })
         .collect();
+    // the highest rock under the disc, which bounds the side face's rings
+    // and the flanks' bands to the part that can reach the rock at all
+    let top = {
+        let g = map.grid();
+        let r = disc.radius;
+        g.node_range(
+            disc.centre.x - r - g.dx,
+            disc.centre.x + r + g.dx,
+            disc.centre.y - r - g.dy,
+            disc.centre.y + r + g.dy,
+        )
+        .map(|(i0, i1, j0, j1)| map.max_height(i0, i1, j0, j1))
+    };
     let axle_z = disc.rot[(2, 1)];
-    if axle_z.abs() > 1e-12 {
+    if let (true, Some(t)) = (axle_z.abs() > 1e-12, top) {
         let side = -axle_z.signum();
-        let r_hi = disc.rho_full(disc.hub_half_width);
-        let dr = r_hi / res.rings as f64;
+        let hw = disc.hub_half_width;
+        let r_hi = disc.rho_full(hw);
+        // the face's points at radius r reach down to
+        // centre.z + axle_z side hw - m r
+        let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
+        let r_lo = if m > 1e-12 {
+            ((disc.centre.z + axle_z * side * hw - t) / m).clamp(0.0, r_hi)
+        } else {
+            0.0
+        };
+        let dr = (r_hi - r_lo) / res.rings as f64;
         for j in 0..res.rings {
-            let r = dr * (j as f64 + 0.5);
+            let r = r_lo + dr * (j as f64 + 0.5);
             circles.push((Element::ring(disc, side, r, dr, &motion), true));
         }
     }
     if disc.has_flanks() {
         // the flanks, finely, where they can reach the rock at all
-        let g = map.grid();
-        let r = disc.radius;
-        let top = g
-            .node_range(
-                disc.centre.x - r - g.dx,
-                disc.centre.x + r + g.dx,
-                disc.centre.y - r - g.dy,
-                disc.centre.y + r + g.dy,
-            )
-            .map(|(i0, i1, j0, j1)| map.max_height(i0, i1, j0, j1));
         let (sn, _) = disc.flank_normal();
         for side in [1.0f64, -1.0] {
             let Some((s_lo, s_hi)) = top.and_then(|t| flank_below(disc, side, t)) else {

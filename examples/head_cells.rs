@@ -9,7 +9,9 @@
 //! steps also the wall seconds per machine second), mean thrust and torque
 //! with their errors, and the largest error of a disc's mean normal and side
 //! force, relative to that disc's mean normal force. `DETAIL=1` adds every
-//! disc's mean forces against the reference's (stderr).
+//! disc's mean forces against the reference's (stderr). `DISCS=a-b` keeps
+//! only the layout's cutters `a..=b` (numbered from 0), on a face sized for
+//! them.
 use kerf::core::head::{default_params, DiscSpec, Head};
 use kerf::core::{layout, Pose, Twist};
 use std::time::Instant;
@@ -23,7 +25,13 @@ struct Run {
 }
 
 fn run(file: &str, cell: f64, sweep: f64, steps: usize, rpm: f64, p_rev: f64) -> Run {
-    let lay = layout::load(std::path::Path::new(file)).unwrap();
+    let mut lay = layout::load(std::path::Path::new(file)).unwrap();
+    if let Ok(r) = std::env::var("DISCS") {
+        // a range of the layout's cutters alone, on a face sized for them
+        let (a, b) = r.split_once('-').expect("DISCS=first-last");
+        let (a, b): (usize, usize) = (a.parse().unwrap(), b.parse().unwrap());
+        lay.cutters = lay.cutters[a..=b].to_vec();
+    }
     let mut p = default_params(&lay, cell);
     p.numerics.sweep_step = sweep;
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();

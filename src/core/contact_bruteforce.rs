@@ -4,8 +4,8 @@
 //! default path.
 //!
 //! The disc's surface is sampled finely: `slices` rim circles across the tip
-//! `rings` circles on a tilted disc's lower side face (the hub face with
-//! flanks) and `flank_bands` circles along each flank, each walked from
+//! `rings` circles on each side face that reaches the rock (the hub faces
+//! with flanks) and `flank_bands` circles along each flank, each walked from
 //! its lowest point in steps of `ds` of arc. The same reading of the rock
 //! (`rock_over`) decides, sample by sample, where the contact arc starts
 //! (the first sample inside the rock) and ends (the first sample with no
@@ -34,7 +34,7 @@ pub struct Resolution {
     pub ds: f64,
     /// Rim circles across the tip.
     pub slices: usize,
-    /// Circles across a tilted disc's lower side face, over the part of it
+    /// Circles across each side face, over the part of it
     /// that reaches below the highest rock under the disc.
     pub rings: usize,
     /// Circles along each flank, over the part of it that reaches below the
@@ -97,8 +97,8 @@ pub fn contact_brute(
         .map(|(i0, i1, j0, j1)| map.max_height(i0, i1, j0, j1))
     };
     let axle_z = disc.rot[(2, 1)];
-    if let (true, Some(t)) = (axle_z.abs() > 1e-12, top) {
-        let side = -axle_z.signum();
+    for side in [1.0f64, -1.0] {
+        let Some(t) = top else { break };
         let hw = disc.hub_half_width;
         let r_hi = disc.rho_full(hw);
         // the face's points at radius r reach down to
@@ -109,6 +109,9 @@ pub fn contact_brute(
         } else {
             0.0
         };
+        if r_lo >= r_hi {
+            continue;
+        }
         let dr = (r_hi - r_lo) / res.rings as f64;
         for j in 0..res.rings {
             let r = r_lo + dr * (j as f64 + 0.5);

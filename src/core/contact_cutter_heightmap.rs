@@ -697,7 +697,7 @@ const MAX_SUB: usize = 16;
 
 /// Room for every circle: rim slices, rings, flank bands and the samples of
 /// split strips.
-const MAX_CIRCLES: usize = 101 + MAX_RINGS + 2 * MAX_FLANK_BANDS + MAX_SUB;
+const MAX_CIRCLES: usize = 101 + 2 * MAX_RINGS + 2 * MAX_FLANK_BANDS + MAX_SUB;
 
 /// The part `[s_lo, s_hi]` of the flank on `side` (`s` the distance along
 /// the flank from the tip's edge) whose circles reach below `z_top`: the
@@ -1164,8 +1164,8 @@ pub fn contact(
     let h = disc.half_width;
     let motion = Motion::new(disc, twist, look_ahead(look, num));
 
-    // the circles: rim slices, then rings on the side face that faces down
-    // (the hub face with flanks), then bands along the flanks
+    // the circles: rim slices, then rings on the side faces (the hub faces
+    // with flanks), then bands along the flanks
     let mut circles = [Circle::default(); MAX_CIRCLES];
     let mut nc = 0;
     for k in 0..n {
@@ -1180,12 +1180,14 @@ pub fn contact(
         };
         nc += 1;
     }
+    // rings on each side face (the hub faces with flanks) over the part of
+    // it that reaches below the highest rock: a face's points at radius `r`
+    // reach down to `centre.z + axle_z side hw - m r`
     let axle_z = disc.rot[(2, 1)];
-    if axle_z.abs() > 1e-12 {
-        let side = -axle_z.signum();
-        let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
-        let hw = disc.hub_half_width;
-        let r_hi = disc.rho_full(hw);
+    let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
+    let hw = disc.hub_half_width;
+    let r_hi = disc.rho_full(hw);
+    for side in [1.0f64, -1.0] {
         let r_lo = if m > 1e-12 {
             ((disc.centre.z + axle_z * side * hw - z_top) / m).max(0.0)
         } else {
@@ -1228,25 +1230,41 @@ pub fn contact(
         }
     }
 
-    // a moving disc whose side face nowhere moves into the rock (a rolling
-    // gauge cutter: the face slides in its own plane) gets no load from its
-    // rings, exactly: the whole-arc part weighs 1 - moving = 0 and no ring has
-    // a driving part (normal velocity side v_y + r (w_z sin + w_x cos) <= eps
-    // for every r <= rho(T/2)). They are not walked then, unless the rim
-    // touches nothing (the disc is in contact if a ring touches). Flank
-    // bands are cones, which a rolling disc does drive into: always walked.
-    let rings_idle = {
-        let side = -axle_z.signum();
-        motion.moving >= 1.0
-            && side * motion.v.y + disc.rho(h) * motion.w.x.hypot(motion.w.z) <= motion.vn_eps
+    // a moving disc whose side face nowhere moves into the rock ahead of
+    // its lowest point gets no load from that face's rings: they are not
+    // walked then, unless the rim touches nothing (the disc is in contact if
+    // a ring touches). A face drives where its normal velocity
+    // `side (w_z r sin t + w_x r cos t + v_y)` is positive. Rolling straight
+    // (a face sliding in its own plane) it drives nowhere: exactly no load,
+    // the whole-arc part weighing 1 - moving = 0. Turning, the face towards
+    // the turn's centre drives ahead of the lowest point and shaves the wall
+    // the leading half meets (docs/head.md, "Gauge cutters on curved
+    // tracks"); the other face drives only behind it, into the wall its own
+    // leading edge carved a moment before, which in steady motion is gone:
+    // only a height map's blur of that (for an upright disc, vertical) wall
+    // would be left to read. Flank bands are cones, which a rolling disc
+    // does drive into: always walked.
+    let ahead = motion.v.x.signum();
+    let rings_idle = |side: f64| {
+        let r = disc.rho(h);
+        let (a, b, c) = (
+            side * motion.w.z * r,
+            side * motion.w.x * r,
+            side * motion.v.y,
+        );
+        // the most `a sin t + b cos t + c` reaches with `ahead sin t >= 0`
+        let most = c + if ahead * a > 0.0 { a.hypot(b) } else { b.abs() };
+        motion.moving >= 1.0 && most <= motion.vn_eps
     };
+    let idle = [rings_idle(-1.0), rings_idle(1.0)];
+    let ring_idle = |c: &Circle| c.face != 0.0 && !c.flank && idle[usize::from(c.face > 0.0)];
     // per circle, both sides: march first, then refine the ends of the arcs
     // on every side whose weight in the blend can matter
     let mut walks = [[None::<Walk>; 2]; MAX_CIRCLES];
     let step_len = num.arc_step_cells * cell;
     let mut rim_touches = false;
     for (c, pair) in circles[..nc].iter().zip(walks.iter_mut()) {
-        if c.face != 0.0 && !c.flank && rings_idle && rim_touches {
+        if ring_idle(c) && rim_touches {
             continue;
         }
         let Some(w) = SliceWalk::below(disc, (c.y, c.radius), z_top, step_len, look) else {
@@ -1410,7 +1428,7 @@ pub fn contact(
     let mut gov: Option<(usize, f64)> = None;
     let mut sub_arcs = [[None::<Arc>; 2]; MAX_SUB];
     for (ci, c) in circles.iter().enumerate() {
-        if c.face != 0.0 && !c.flank && rings_idle {
+        if ring_idle(c) {
             any |= walks[ci].iter().any(Option::is_some);
             continue;
         }

@@ -3,8 +3,8 @@
 //!
 //! **The surface.** The disc's surface is cut into circles about the axle:
 //! rim circles, one per slice across the tip profile (axle coordinate `y`,
-//! radius `rho(y)`), and rings on a tilted disc's lower side face (radius
-//! `r`). On each circle the contact query finds the arcs `[t0, t1]` where the
+//! radius `rho(y)`), and rings on each side face that reaches the rock
+//! (radius `r`). On each circle the contact query finds the arcs `[t0, t1]` where the
 //! rock lies over the surface (see `contact_cutter_heightmap`). Over an arc,
 //! the force density of a pressure `P` normal to the surface is, in the cutter
 //! frame, `P (s sin(t) + c cos(t) + k)` for constant vectors `s, c, k`

@@ -109,7 +109,9 @@ pub fn contact_brute(
         } else {
             0.0
         };
-        if r_lo >= r_hi {
+        // the law loads a moving disc's face only where it drives ahead of
+        // its lowest point (`Motion::face_drives_ahead`)
+        if r_lo >= r_hi || (motion.moving >= 1.0 && !motion.face_drives_ahead(side, disc.rho(h))) {
             continue;
         }
         let dr = (r_hi - r_lo) / res.rings as f64;

@@ -1230,32 +1230,16 @@ pub fn contact(
         }
     }
 
-    // a moving disc whose side face nowhere moves into the rock ahead of
-    // its lowest point gets no load from that face's rings: they are not
-    // walked then, unless the rim touches nothing (the disc is in contact if
-    // a ring touches). A face drives where its normal velocity
-    // `side (w_z r sin t + w_x r cos t + v_y)` is positive. Rolling straight
-    // (a face sliding in its own plane) it drives nowhere: exactly no load,
-    // the whole-arc part weighing 1 - moving = 0. Turning, the face towards
-    // the turn's centre drives ahead of the lowest point and shaves the wall
-    // the leading half meets (docs/head.md, "Gauge cutters on curved
-    // tracks"); the other face drives only behind it, into the wall its own
-    // leading edge carved a moment before, which in steady motion is gone:
-    // only a height map's blur of that (for an upright disc, vertical) wall
-    // would be left to read. Flank bands are cones, which a rolling disc
-    // does drive into: always walked.
-    let ahead = motion.v.x.signum();
-    let rings_idle = |side: f64| {
-        let r = disc.rho(h);
-        let (a, b, c) = (
-            side * motion.w.z * r,
-            side * motion.w.x * r,
-            side * motion.v.y,
-        );
-        // the most `a sin t + b cos t + c` reaches with `ahead sin t >= 0`
-        let most = c + if ahead * a > 0.0 { a.hypot(b) } else { b.abs() };
-        motion.moving >= 1.0 && most <= motion.vn_eps
-    };
+    // a moving disc's side face that drives into the rock nowhere ahead of
+    // its lowest point carries no load (`Motion::face_drives_ahead`): its
+    // rings are not walked then, unless the rim touches nothing (the disc is
+    // in contact if a ring touches). Rolling straight, that is both faces,
+    // exactly as the law gives (the whole-arc part weighs 1 - moving = 0 and
+    // no ring has a driving part); turning, the face away from the turn's
+    // centre. Flank bands are cones, which a rolling disc does drive into:
+    // always walked.
+    let rings_idle =
+        |side: f64| motion.moving >= 1.0 && !motion.face_drives_ahead(side, disc.rho(h));
     let idle = [rings_idle(-1.0), rings_idle(1.0)];
     let ring_idle = |c: &Circle| c.face != 0.0 && !c.flank && idle[usize::from(c.face > 0.0)];
     // per circle, both sides: march first, then refine the ends of the arcs

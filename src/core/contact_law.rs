@@ -220,6 +220,27 @@ impl Motion {
         }
     }
 
+    /// Whether the side face `side` (+1 / -1 along the axle), reaching out to
+    /// radius `r`, drives into the rock anywhere ahead of its lowest point
+    /// (in the direction of travel; anywhere, when the disc does not travel
+    /// along its rolling direction). A face's normal velocity is
+    /// `side (w_z r sin t + w_x r cos t + v_y)`. Rolling straight it is zero:
+    /// the face slides in its own plane. Turning, the face towards the
+    /// turn's centre drives ahead of its lowest point and shaves the wall
+    /// there; the other face drives only behind it, into the wall its own
+    /// leading edge has just carved. The law loads a moving disc's face only
+    /// where this holds.
+    pub fn face_drives_ahead(&self, side: f64, r: f64) -> bool {
+        let (a, b, c) = (side * self.w.z * r, side * self.w.x * r, side * self.v.y);
+        // `a sin t + b cos t` peaks at `hypot(a, b)` where `sin t` has the
+        // sign of `a`: ahead when that is the travel's sign (or the disc does
+        // not travel); otherwise its most ahead is at an end, `t = 0` or `pi`
+        let travel = self.v.x;
+        let peak_ahead = travel.abs() <= self.vn_eps || travel.signum() * a > 0.0;
+        let most = c + if peak_ahead { a.hypot(b) } else { b.abs() };
+        most > self.vn_eps
+    }
+
     /// Where the surface point `q` (cutter frame) is after the look-ahead.
     #[inline]
     pub fn ahead(&self, q: &Vector3<f64>) -> Vector3<f64> {

@@ -39,10 +39,7 @@ fn run(file: &str, cell: f64, sweep: f64, steps: usize, rpm: f64, p_rev: f64) ->
     let mut head = Head::new(p, specs).unwrap();
     head.steady_start(p_rev).unwrap();
     let w = rpm * std::f64::consts::TAU / 60.0;
-    let twist = Twist::new(
-        [0.0, 0.0, -p_rev * w / std::f64::consts::TAU],
-        [0.0, 0.0, w],
-    );
+    let twist = Twist::boring(w, p_rev);
     let mut pose = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     let mut times = Vec::with_capacity(steps);
     let mut r = Run {

@@ -29,10 +29,7 @@ fn main() {
     head.steady_start(p_rev).unwrap();
     eprintln!("steady start {:.1} s", t0.elapsed().as_secs_f64());
     let w = rpm * 2.0 * std::f64::consts::PI / 60.0;
-    let twist = Twist::new(
-        [0.0, 0.0, -p_rev * w / (2.0 * std::f64::consts::PI)],
-        [0.0, 0.0, w],
-    );
+    let twist = Twist::boring(w, p_rev);
     let mut pose = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     let mut times = Vec::with_capacity(steps);
     let mut thrust = 0.0;

@@ -25,10 +25,7 @@ fn main() {
     let (rpm, p_rev) = (3.0, 0.006);
     head.steady_start(p_rev).unwrap();
     let w = rpm * std::f64::consts::TAU / 60.0;
-    let twist = Twist::new(
-        [0.0, 0.0, -p_rev * w / std::f64::consts::TAU],
-        [0.0, 0.0, w],
-    );
+    let twist = Twist::boring(w, p_rev);
     let mut pose = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     println!(
         "{file} disc {k} (track {} m, tilt {} deg), {} mm cells; head angle at the bin's end",

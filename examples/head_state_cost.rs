@@ -32,10 +32,7 @@ fn main() {
     let mut head = Head::new(p.clone(), specs).unwrap();
     head.steady_start(p_rev).unwrap();
     let w = rpm * 2.0 * std::f64::consts::PI / 60.0;
-    let twist = Twist::new(
-        [0.0, 0.0, -p_rev * w / (2.0 * std::f64::consts::PI)],
-        [0.0, 0.0, w],
-    );
+    let twist = Twist::boring(w, p_rev);
     let mut pose = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     for _ in 0..5 {
         pose = head.advance_head(&pose, &twist, h).unwrap();

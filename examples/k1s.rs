@@ -13,8 +13,8 @@ fn main() {
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
     let mut head = Head::new(p, specs).unwrap();
     let w = 10.0 * 2.0 * std::f64::consts::PI / 60.0;
-    let vz = -0.006 * w / (2.0 * std::f64::consts::PI);
-    let twist = Twist::new([0.0, 0.0, vz], [0.0, 0.0, w]);
+    let twist = Twist::boring(w, 0.006);
+    let vz = twist.velocity.z;
     let h = 1e-3;
     let (mut wt, mut wd, mut at) = (0.0f64, 0.0f64, (0, 0));
     let mut rels = Vec::new();

@@ -25,8 +25,7 @@ fn main() {
         head.steady_start(0.006).unwrap();
     }
     let w = rpm * 2.0 * std::f64::consts::PI / 60.0;
-    let vz = -0.006 * w / (2.0 * std::f64::consts::PI);
-    let twist = Twist::new([0.0, 0.0, vz], [0.0, 0.0, w]);
+    let twist = Twist::boring(w, 0.006);
     let mut pose = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     let (mut tq, mut th) = (0.0, 0.0);
     let mut gr = vec![0.0; tilted.len()];

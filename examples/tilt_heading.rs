@@ -19,18 +19,23 @@ fn main() {
     println!(
         "tilt {tilt} deg; F_N / F_R / F_S kN at 0.25 | 0.5 | 1 mm cells | F_N at 0.2 m, 1 mm: fast / oracle"
     );
+    // the face at cells of `cell` and the track heading `yaw` deg to the grid
+    let scene = |yaw: f64, cell: f64| {
+        let prm = face(cell, -0.35, 0.35, -0.35, 0.35);
+        let track = TiltedArc {
+            prm: prm.clone(),
+            yaw: yaw.to_radians(),
+            roll: tilt.to_radians(),
+            depth: P_REF,
+            radius: 0.0,
+            speed: 1.0,
+        };
+        (prm, track)
+    };
     for yaw in [0.0f64, 5.0, 15.0, 30.0, 45.0] {
         let mut row = format!("heading {yaw:4} deg:");
         for cell in [0.25e-3, 0.5e-3, 1e-3] {
-            let prm = face(cell, -0.35, 0.35, -0.35, 0.35);
-            let track = TiltedArc {
-                prm: prm.clone(),
-                yaw: yaw.to_radians(),
-                roll: tilt.to_radians(),
-                depth: P_REF,
-                radius: 0.0,
-                speed: 1.0,
-            };
+            let (prm, track) = scene(yaw, cell);
             let mut m = Model::new(prm).unwrap();
             let mean = roll(&mut m, &track, 0.3, 1e-3, 0.15, 0.28);
             row += &format!(
@@ -40,15 +45,7 @@ fn main() {
                 mean.cutting[2] / 1e3
             );
         }
-        let prm = face(1e-3, -0.35, 0.35, -0.35, 0.35);
-        let track = TiltedArc {
-            prm: prm.clone(),
-            yaw: yaw.to_radians(),
-            roll: tilt.to_radians(),
-            depth: P_REF,
-            radius: 0.0,
-            speed: 1.0,
-        };
+        let (prm, track) = scene(yaw, 1e-3);
         let (m, pose, tw) = rolled(&prm, &[(&track as &dyn Track, 0.2)]);
         let fast = cutting_force(&pose, &m.contact(&pose, &tw));
         let brute = cutting_force(&pose, &m.contact_brute(&pose, &tw, &Resolution::default()));

@@ -80,7 +80,7 @@ fn bore_and_load(
     loads: bool,
 ) -> (Vec<Vec<Vec<f64>>>, Vec<f64>, Vec<f64>) {
     let w = 10.0 * TAU / 60.0;
-    let twist = Twist::new([0.0, 0.0, -p_rev * w / TAU], [0.0, 0.0, w]);
+    let twist = Twist::boring(w, p_rev);
     let h = TAU / w / per_rev as f64;
     let mut pose = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     let mut out = vec![];
@@ -268,7 +268,7 @@ fn a_cutterhead_boring_with_chipping_keeps_its_face_level() {
 fn chips_on_a_head_replay_bit_for_bit_for_any_thread_count() {
     let keep = [2, 3, 4];
     let w = 10.0 * TAU / 60.0;
-    let twist = Twist::new([0.0, 0.0, -P_REV * w / TAU], [0.0, 0.0, w]);
+    let twist = Twist::boring(w, P_REV);
     let h = TAU / w / 60.0;
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -346,7 +346,7 @@ fn chips_on_a_head_replay_bit_for_bit_for_any_thread_count() {
 fn model_exchange_commits_break_the_chips_co_simulation_does() {
     let keep = [2, 3, 4];
     let w = 10.0 * TAU / 60.0;
-    let twist = Twist::new([0.0, 0.0, -P_REV * w / TAU], [0.0, 0.0, w]);
+    let twist = Twist::boring(w, P_REV);
     let per_rev = 120;
     let h = TAU / w / per_rev as f64;
     let (mut cs, mut me) = (demo(true, 5, Some(&keep)), demo(true, 5, Some(&keep)));
@@ -393,7 +393,7 @@ fn model_exchange_commits_break_the_chips_co_simulation_does() {
 fn the_centre_inside_the_innermost_track_breaks_out_too() {
     let mut head = demo(true, 1, Some(&[1, 2]));
     let w = 10.0 * TAU / 60.0;
-    let twist = Twist::new([0.0, 0.0, -P_REV * w / TAU], [0.0, 0.0, w]);
+    let twist = Twist::boring(w, P_REV);
     let h = TAU / w / 60.0;
     let mut pose = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     // 1 mm clear of the innermost groove's edge (track 0.07 m, T/2 6.5 mm)

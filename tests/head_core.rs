@@ -36,10 +36,7 @@ fn params(half: f64) -> Params {
 /// per revolution, for `revs` revolutions in CS steps of `h`; returns the
 /// outputs after every step.
 fn bore(head: &mut Head, w: f64, p_rev: f64, revs: f64, h: f64) -> (Vec<HeadOutputs>, Pose) {
-    let twist = Twist::new(
-        [0.0, 0.0, -p_rev * w / (2.0 * std::f64::consts::PI)],
-        [0.0, 0.0, w],
-    );
+    let twist = Twist::boring(w, p_rev);
     let mut pose = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     let steps = (revs * 2.0 * std::f64::consts::PI / w / h).round() as usize;
     let mut out = Vec::with_capacity(steps);
@@ -435,10 +432,7 @@ fn steady_start_meets_each_disc_at_its_depth_per_revolution() {
     assert!(head.steady_start(-0.001).is_err());
     head.steady_start(p_rev).unwrap();
     let w = 1.0;
-    let twist = Twist::new(
-        [0.0, 0.0, -p_rev * w / (2.0 * std::f64::consts::PI)],
-        [0.0, 0.0, w],
-    );
+    let twist = Twist::boring(w, p_rev);
     let rest = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     let o = head.evaluate_head(&rest, &twist).unwrap();
     // one disc on its track meets p; two share it, p / 2 each (tips on a flat
@@ -488,10 +482,7 @@ fn steady_boring_face_discs_carry_the_csm_force_of_their_depth_per_revolution() 
     let mut head = Head::new(params(0.85), specs).unwrap();
     head.steady_start(p_rev).unwrap();
     let w = 1.0;
-    let twist = Twist::new(
-        [0.0, 0.0, -p_rev * w / (2.0 * std::f64::consts::PI)],
-        [0.0, 0.0, w],
-    );
+    let twist = Twist::boring(w, p_rev);
     let mut pose = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     let steps = 80;
     let h = 0.25 * 2.0 * std::f64::consts::PI / w / steps as f64;
@@ -613,10 +604,7 @@ fn a_step_that_would_scan_too_many_nodes_is_refused_untouched() {
 fn a_step_too_long_for_one_call_is_refused_untouched() {
     let mut head = small_head();
     let w = 3.0 * std::f64::consts::TAU / 60.0;
-    let twist = Twist::new(
-        [0.0, 0.0, -0.006 * w / std::f64::consts::TAU],
-        [0.0, 0.0, w],
-    );
+    let twist = Twist::boring(w, 0.006);
     let start = Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     head.advance_head(&start, &twist, 1e-3).unwrap();
     let before = head.state().to_bytes();
@@ -669,8 +657,8 @@ fn outputs_move_by_round_off_when_the_pose_does_in_a_shallow_deepening_cut() {
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
     let mut head = Head::new(params(half), specs).unwrap();
     let w = 10.0 * 2.0 * std::f64::consts::PI / 60.0;
-    let vz = -0.006 * w / (2.0 * std::f64::consts::PI);
-    let twist = Twist::new([0.0, 0.0, vz], [0.0, 0.0, w]);
+    let twist = Twist::boring(w, 0.006);
+    let vz = twist.velocity.z;
     let h = 1e-3;
     let (mut thrust, mut disc) = (0.0f64, 0.0f64);
     for k in 0..200 {

@@ -98,6 +98,16 @@ impl Twist {
         }
     }
 
+    /// A cutterhead boring: turning at `w` \[rad/s\] about +z and
+    /// advancing `p_rev` per revolution along -z (the contract's boring
+    /// direction: `z` decreasing, `wz > 0`).
+    pub fn boring(w: f64, p_rev: f64) -> Self {
+        Self::new(
+            [0.0, 0.0, -p_rev * w / std::f64::consts::TAU],
+            [0.0, 0.0, w],
+        )
+    }
+
     pub fn validate(&self) -> Result<()> {
         check("vx", self.velocity.x, MAX_SPEED)?;
         check("vy", self.velocity.y, MAX_SPEED)?;

@@ -20,7 +20,7 @@ use super::contact_cutter_heightmap::{
     arc_contribution, assemble, flank_below, look_ahead, rock_over, slice_y, still_there_tolerance,
     Contact,
 };
-use super::contact_law::{Element, Load, Motion};
+use super::contact_law::{face_weight, Element, Load, Motion};
 use super::csm::CsmLaw;
 use super::cutter::PosedDisc;
 use super::heightmap::HeightMap;
@@ -73,13 +73,14 @@ pub fn contact_brute(
     let h = disc.half_width;
     let z_top = f64::INFINITY;
     let psi = law.psi();
-    // circles: (element, is_face)
-    let mut circles: Vec<(Element, bool)> = (0..res.slices)
+    // circles: (element, is_face, the share of its load it carries)
+    let mut circles: Vec<(Element, bool, f64)> = (0..res.slices)
         .map(|k| {
             let y = slice_y(h, res.slices, k);
             (
                 Element::rim(disc, y, 2.0 * h / res.slices as f64, &motion),
                 false,
+                1.0,
             )
         })
         .collect();
@@ -97,8 +98,11 @@ pub fn contact_brute(
         .map(|(i0, i1, j0, j1)| map.max_height(i0, i1, j0, j1))
     };
     let axle_z = disc.rot[(2, 1)];
+    let w_face = face_weight(axle_z);
     for side in [1.0f64, -1.0] {
-        let Some(t) = top else { break };
+        let Some(t) = top.filter(|_| w_face > 0.0) else {
+            break;
+        };
         let hw = disc.hub_half_width;
         let r_hi = disc.rho_full(hw);
         // the face's points at radius r reach down to
@@ -117,7 +121,7 @@ pub fn contact_brute(
         let dr = (r_hi - r_lo) / res.rings as f64;
         for j in 0..res.rings {
             let r = r_lo + dr * (j as f64 + 0.5);
-            circles.push((Element::ring(disc, side, r, dr, &motion), true));
+            circles.push((Element::ring(disc, side, r, dr, &motion), true, w_face));
         }
     }
     if disc.has_flanks() {
@@ -131,13 +135,13 @@ pub fn contact_brute(
             for j in 0..res.flank_bands {
                 let s = s_lo + ds * (j as f64 + 0.5);
                 let y = side * (h + s * sn);
-                circles.push((Element::flank(disc, y, ds, &motion), true));
+                circles.push((Element::flank(disc, y, ds, &motion), true, 1.0));
             }
         }
     }
     let mut loads = [[Load::default(); 2]; 2];
     let mut depth = [0.0f64; 2];
-    for (e, face) in &circles {
+    for (e, face, share) in &circles {
         let Some((theta0, reach)) = disc.arc_below(e.y, e.radius, z_top) else {
             continue;
         };
@@ -200,8 +204,8 @@ pub fn contact_brute(
                 elastic_depth,
                 eta,
             );
-            depth[s] = depth[s].max(arc_depth * eff);
-            loads[usize::from(*face)][s] += load;
+            depth[s] = depth[s].max(arc_depth * eff * share);
+            loads[usize::from(*face)][s] += load.scaled(*share);
         }
     }
     assemble(disc, law, res.slices, loads, depth)

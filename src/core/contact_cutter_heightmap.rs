@@ -40,7 +40,9 @@
 
 use nalgebra::Vector3;
 
-use super::contact_law::{arc_load_in, pressure_level, smoothstep, Element, Load, Motion};
+use super::contact_law::{
+    arc_load_in, face_weight, pressure_level, smoothstep, Element, Load, Motion,
+};
 use super::csm::{contact_angle, CsmLaw};
 use super::cutter::{wrap, PosedDisc};
 use super::heightmap::HeightMap;
@@ -1187,7 +1189,11 @@ pub fn contact(
     let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
     let hw = disc.hub_half_width;
     let r_hi = disc.rho_full(hw);
+    let w_face = face_weight(axle_z);
     for side in [1.0f64, -1.0] {
+        if w_face == 0.0 {
+            break;
+        }
         let r_lo = if m > 1e-12 {
             ((disc.centre.z + axle_z * side * hw - z_top) / m).max(0.0)
         } else {
@@ -1474,6 +1480,12 @@ pub fn contact(
                 (2.0 * c.width / w_strip).min(1.0)
             } else {
                 1.0
+            };
+            // a side face's rings carry its share (`face_weight`)
+            let (load, eff) = if c.face != 0.0 && !c.flank {
+                (load.scaled(w_face), eff * w_face)
+            } else {
+                (load, eff)
             };
             depth[s] = depth[s].max(arc.depth * eff * share);
             let part = usize::from(c.face != 0.0);

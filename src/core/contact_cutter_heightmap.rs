@@ -1190,28 +1190,27 @@ pub fn contact(
     let hw = disc.hub_half_width;
     let r_hi = disc.rho_full(hw);
     let w_face = face_weight(axle_z);
-    for side in [1.0f64, -1.0] {
-        if w_face == 0.0 {
-            break;
-        }
-        let r_lo = if m > 1e-12 {
-            ((disc.centre.z + axle_z * side * hw - z_top) / m).max(0.0)
-        } else {
-            0.0
-        };
-        if r_lo < r_hi {
-            let nr = (((r_hi - r_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_RINGS);
-            let dr = (r_hi - r_lo) / nr as f64;
-            for j in 0..nr {
-                circles[nc] = Circle {
-                    y: side * h,
-                    radius: r_lo + dr * (j as f64 + 0.5),
-                    width: dr,
-                    face: side,
-                    flank: false,
-                    sub: false,
-                };
-                nc += 1;
+    if w_face > 0.0 {
+        for side in [1.0f64, -1.0] {
+            let r_lo = if m > 1e-12 {
+                ((disc.centre.z + axle_z * side * hw - z_top) / m).max(0.0)
+            } else {
+                0.0
+            };
+            if r_lo < r_hi {
+                let nr = (((r_hi - r_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_RINGS);
+                let dr = (r_hi - r_lo) / nr as f64;
+                for j in 0..nr {
+                    circles[nc] = Circle {
+                        y: side * h,
+                        radius: r_lo + dr * (j as f64 + 0.5),
+                        width: dr,
+                        face: side,
+                        flank: false,
+                        sub: false,
+                    };
+                    nc += 1;
+                }
             }
         }
     }

@@ -715,4 +715,32 @@ mod tests {
         );
         assert!((c.x - rt * (s / rt).sin()).abs() < 1e-12, "{c}");
     }
+
+    #[test]
+    fn only_the_face_towards_a_turn_or_a_push_drives_ahead_of_its_lowest_point() {
+        // an upright disc heading +x, rolling at 1 m/s; its face y = +h
+        // (side +1) looks towards +y
+        let d = PosedDisc::new(
+            &CutterParams::default(),
+            &Pose::new(0.0, 0.0, 0.2, 0.0, 0.0, 0.0),
+        );
+        let r = d.rho(d.half_width);
+        let drives = |v: [f64; 3], wz: f64| {
+            let m = Motion::new(&d, &Twist::new(v, [0.0, 1.0 / d.radius, wz]), 0.0);
+            [m.face_drives_ahead(1.0, r), m.face_drives_ahead(-1.0, r)]
+        };
+        // straight: both faces slide in their own planes
+        assert_eq!(drives([1.0, 0.0, 0.0], 0.0), [false, false]);
+        // turning towards +y (centre at +y): the face towards the centre
+        // drives ahead of its lowest point, the other only behind it
+        assert_eq!(drives([1.0, 0.0, 0.0], 1.0 / 0.5), [true, false]);
+        assert_eq!(drives([1.0, 0.0, 0.0], -1.0 / 0.5), [false, true]);
+        // rolling backwards, the turn's leading half is the other one
+        assert_eq!(drives([-1.0, 0.0, 0.0], 1.0 / 0.5), [false, true]);
+        // pushed sideways: the face it is pushed towards, everywhere
+        assert_eq!(drives([1.0, 0.1, 0.0], 0.0), [true, false]);
+        // not travelling along its rolling direction (plunging, turning in
+        // place): the whole circle counts as ahead
+        assert_eq!(drives([0.0, 0.0, -0.1], 1.0), [true, true]);
+    }
 }

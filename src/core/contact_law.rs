@@ -4,8 +4,9 @@
 //! **The surface.** The disc's surface is cut into circles about the axle:
 //! rim circles, one per slice across the tip profile (axle coordinate `y`,
 //! radius `rho(y)`), and rings on each side face that reaches the rock
-//! (radius `r`). On each circle the contact query finds the arcs `[t0, t1]` where the
-//! rock lies over the surface (see `contact_cutter_heightmap`). Over an arc,
+//! (radius `r`; their load faded in over the first 5 deg of tilt,
+//! [`face_weight`]). On each circle the contact query finds the arcs
+//! `[t0, t1]` where the rock lies over the surface (see `contact_cutter_heightmap`). Over an arc,
 //! the force density of a pressure `P` normal to the surface is, in the cutter
 //! frame, `P (s sin(t) + c cos(t) + k)` for constant vectors `s, c, k`
 //! (a [`Trig`]), and so is its moment about the centre: both integrate in

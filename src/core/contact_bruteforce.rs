@@ -17,8 +17,8 @@
 use nalgebra::Vector3;
 
 use super::contact_cutter_heightmap::{
-    arc_contribution, assemble, flank_below, look_ahead, rock_over, slice_y, still_there_tolerance,
-    Contact,
+    arc_contribution, assemble, face_below, flank_below, look_ahead, rock_over, slice_y,
+    still_there_tolerance, Contact,
 };
 use super::contact_law::{face_weight, Element, Load, Motion};
 use super::csm::CsmLaw;
@@ -97,32 +97,21 @@ pub fn contact_brute(
         )
         .map(|(i0, i1, j0, j1)| map.max_height(i0, i1, j0, j1))
     };
-    let axle_z = disc.rot[(2, 1)];
-    let w_face = face_weight(axle_z);
-    if let (Some(t), true) = (top, w_face > 0.0) {
-        for side in [1.0f64, -1.0] {
-            let hw = disc.hub_half_width;
-            let r_hi = disc.rho_full(hw);
-            // the face's points at radius r reach down to
-            // centre.z + axle_z side hw - m r
-            let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
-            let r_lo = if m > 1e-12 {
-                ((disc.centre.z + axle_z * side * hw - t) / m).clamp(0.0, r_hi)
-            } else {
-                0.0
-            };
-            // the law loads a moving disc's face only where it drives ahead of
-            // its lowest point (`Motion::face_drives_ahead`)
-            if r_lo >= r_hi
-                || (motion.moving >= 1.0 && !motion.face_drives_ahead(side, disc.rho(h)))
-            {
-                continue;
-            }
-            let dr = (r_hi - r_lo) / res.rings as f64;
-            for j in 0..res.rings {
-                let r = r_lo + dr * (j as f64 + 0.5);
-                circles.push((Element::ring(disc, side, r, dr, &motion), true, w_face));
-            }
+    let w_face = face_weight(disc.rot[(2, 1)]);
+    for side in [1.0f64, -1.0] {
+        // the law loads a moving disc's face only where it drives ahead of
+        // its lowest point (`Motion::face_drives_ahead`)
+        let loaded = motion.moving < 1.0 || motion.face_drives_ahead(side, disc.rho(h));
+        let Some((r_lo, r_hi)) = top
+            .filter(|_| w_face > 0.0 && loaded)
+            .and_then(|t| face_below(disc, side, t))
+        else {
+            continue;
+        };
+        let dr = (r_hi - r_lo) / res.rings as f64;
+        for j in 0..res.rings {
+            let r = r_lo + dr * (j as f64 + 0.5);
+            circles.push((Element::ring(disc, side, r, dr, &motion), true, w_face));
         }
     }
     if disc.has_flanks() {

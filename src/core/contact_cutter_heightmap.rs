@@ -701,6 +701,22 @@ const MAX_SUB: usize = 16;
 /// split strips.
 const MAX_CIRCLES: usize = 101 + 2 * MAX_RINGS + 2 * MAX_FLANK_BANDS + MAX_SUB;
 
+/// The radii `[r_lo, r_hi]` of the side face on `side` (the hub face with
+/// flanks, at `y = side W/2`) whose circles reach below `z_top`: a circle
+/// of radius `r` reaches down to `centre.z + a_z side W/2 - m r`. `None`
+/// when the whole face is above `z_top`.
+pub fn face_below(disc: &PosedDisc, side: f64, z_top: f64) -> Option<(f64, f64)> {
+    let hw = disc.hub_half_width;
+    let r_hi = disc.rho_full(hw);
+    let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
+    let r_lo = if m > 1e-12 {
+        ((disc.centre.z + disc.rot[(2, 1)] * side * hw - z_top) / m).max(0.0)
+    } else {
+        0.0
+    };
+    (r_lo < r_hi).then_some((r_lo, r_hi))
+}
+
 /// The part `[s_lo, s_hi]` of the flank on `side` (`s` the distance along
 /// the flank from the tip's edge) whose circles reach below `z_top`: the
 /// lowest point of a circle about the axle is `centre.z + a_z y - m rho`,
@@ -1134,6 +1150,13 @@ struct Circle {
     sub: bool,
 }
 
+impl Circle {
+    /// A ring of a side face (not a rim slice, not a flank band).
+    fn is_ring(&self) -> bool {
+        self.face != 0.0 && !self.flank
+    }
+}
+
 /// The contact of `disc` with `map` under `law` (kerf's law), for a disc
 /// moving with `twist` (rock frame).
 pub fn contact(
@@ -1183,35 +1206,25 @@ pub fn contact(
         nc += 1;
     }
     // rings on each side face (the hub faces with flanks) over the part of
-    // it that reaches below the highest rock: a face's points at radius `r`
-    // reach down to `centre.z + axle_z side hw - m r`
+    // it that reaches below the highest rock
     let axle_z = disc.rot[(2, 1)];
-    let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
-    let hw = disc.hub_half_width;
-    let r_hi = disc.rho_full(hw);
     let w_face = face_weight(axle_z);
-    if w_face > 0.0 {
-        for side in [1.0f64, -1.0] {
-            let r_lo = if m > 1e-12 {
-                ((disc.centre.z + axle_z * side * hw - z_top) / m).max(0.0)
-            } else {
-                0.0
+    for side in [1.0f64, -1.0] {
+        let Some((r_lo, r_hi)) = face_below(disc, side, z_top).filter(|_| w_face > 0.0) else {
+            continue;
+        };
+        let nr = (((r_hi - r_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_RINGS);
+        let dr = (r_hi - r_lo) / nr as f64;
+        for j in 0..nr {
+            circles[nc] = Circle {
+                y: side * h,
+                radius: r_lo + dr * (j as f64 + 0.5),
+                width: dr,
+                face: side,
+                flank: false,
+                sub: false,
             };
-            if r_lo < r_hi {
-                let nr = (((r_hi - r_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_RINGS);
-                let dr = (r_hi - r_lo) / nr as f64;
-                for j in 0..nr {
-                    circles[nc] = Circle {
-                        y: side * h,
-                        radius: r_lo + dr * (j as f64 + 0.5),
-                        width: dr,
-                        face: side,
-                        flank: false,
-                        sub: false,
-                    };
-                    nc += 1;
-                }
-            }
+            nc += 1;
         }
     }
     for side in [1.0f64, -1.0] {
@@ -1246,7 +1259,7 @@ pub fn contact(
     let rings_idle =
         |side: f64| motion.moving >= 1.0 && !motion.face_drives_ahead(side, disc.rho(h));
     let idle = [rings_idle(-1.0), rings_idle(1.0)];
-    let ring_idle = |c: &Circle| c.face != 0.0 && !c.flank && idle[usize::from(c.face > 0.0)];
+    let ring_idle = |c: &Circle| c.is_ring() && idle[usize::from(c.face > 0.0)];
     // per circle, both sides: march first, then refine the ends of the arcs
     // on every side whose weight in the blend can matter
     let mut walks = [[None::<Walk>; 2]; MAX_CIRCLES];
@@ -1481,7 +1494,7 @@ pub fn contact(
                 1.0
             };
             // a side face's rings carry its share (`face_weight`)
-            let (load, eff) = if c.face != 0.0 && !c.flank {
+            let (load, eff) = if c.is_ring() {
                 (load.scaled(w_face), eff * w_face)
             } else {
                 (load, eff)

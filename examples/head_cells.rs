@@ -1,7 +1,8 @@
 //! The cutterhead's speed against its error as the cells and the sweep step
 //! coarsen: the layout's head bores from the steady start (`p_rev` per
 //! revolution at `rpm`, 1 ms steps) for `steps` steps at each setting
-//! `cell_mm:sweep_mm`; each setting's mean thrust, torque and per-disc
+//! `cell_mm:sweep_mm` (`cell_mm:sweep_mm:whole`: every cut takes the
+//! disc's whole front arc, `numerics.cut_ahead`); each setting's mean thrust, torque and per-disc
 //! loads are compared with the first setting's (the reference).
 //! `cargo run --release --example head_cells -- layouts/reference-9.72m.json 300 0.5:0.5 1:1 2:2`
 //! (docs/head.md, "Gauge cutters on curved tracks"). Prints one row a
@@ -24,7 +25,13 @@ struct Run {
     side: Vec<f64>,
 }
 
-fn run(file: &str, cell: f64, sweep: f64, steps: usize, rpm: f64, p_rev: f64) -> Run {
+fn run(
+    file: &str,
+    (cell, sweep, whole): (f64, f64, bool),
+    steps: usize,
+    rpm: f64,
+    p_rev: f64,
+) -> Run {
     let mut lay = layout::load(std::path::Path::new(file)).unwrap();
     if let Ok(r) = std::env::var("DISCS") {
         // a range of the layout's cutters alone, on a face sized for them
@@ -34,6 +41,7 @@ fn run(file: &str, cell: f64, sweep: f64, steps: usize, rpm: f64, p_rev: f64) ->
     }
     let mut p = default_params(&lay, cell);
     p.numerics.sweep_step = sweep;
+    p.numerics.cut_ahead = whole;
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
     let n = specs.len();
     let mut head = Head::new(p, specs).unwrap();
@@ -70,19 +78,28 @@ fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
     let file = a.first().map_or("layouts/reference-9.72m.json", |s| s);
     let steps: usize = a.get(1).map_or(300, |s| s.parse().unwrap());
-    let settings: Vec<(f64, f64)> = if a.len() > 2 {
+    let settings: Vec<(f64, f64, bool)> = if a.len() > 2 {
         a[2..]
             .iter()
             .map(|s| {
-                let (c, w) = s.split_once(':').expect("cell_mm:sweep_mm");
-                (
-                    c.parse::<f64>().unwrap() * 1e-3,
-                    w.parse::<f64>().unwrap() * 1e-3,
-                )
+                let mut f = s.split(':');
+                let mut mm = || {
+                    f.next()
+                        .expect("cell_mm:sweep_mm[:whole]")
+                        .parse::<f64>()
+                        .unwrap()
+                        * 1e-3
+                };
+                let (c, w) = (mm(), mm());
+                (c, w, s.ends_with(":whole"))
             })
             .collect()
     } else {
-        vec![(0.5e-3, 0.5e-3), (1e-3, 1e-3), (2e-3, 2e-3)]
+        vec![
+            (0.5e-3, 0.5e-3, false),
+            (1e-3, 1e-3, false),
+            (2e-3, 2e-3, false),
+        ]
     };
     let (rpm, p_rev) = (3.0, 0.006);
     println!(
@@ -94,8 +111,8 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|---|---|---|");
     let mut reference: Option<Run> = None;
-    for (cell, sweep) in settings {
-        let r = run(file, cell, sweep, steps, rpm, p_rev);
+    for (cell, sweep, whole) in settings {
+        let r = run(file, (cell, sweep, whole), steps, rpm, p_rev);
         let (e_t, e_q, e_n, e_s) = match &reference {
             None => (0.0, 0.0, 0.0, 0.0),
             Some(f) => {

@@ -2,7 +2,8 @@
 //! start at `rpm` with `p_rev` per revolution, `steps` steps of `h`.
 //! `cargo run --release --example head_cost -- layouts/reference-9.72m.json [h] [steps] [rpm] [p_rev] [sweep_step]`
 //! Prints the median wall time per step and per disc-step (set
-//! RAYON_NUM_THREADS for the thread count).
+//! RAYON_NUM_THREADS for the thread count; WHOLE_CUTS=1 makes every cut
+//! take the disc's whole front arc, `numerics.cut_ahead`).
 use kerf::core::head::{default_params, DiscSpec, Head};
 use kerf::core::{layout, Pose, Twist};
 use std::time::Instant;
@@ -22,6 +23,7 @@ fn main() {
     if let Some(s) = a.get(5) {
         p.numerics.sweep_step = s.parse().unwrap();
     }
+    p.numerics.cut_ahead = std::env::var_os("WHOLE_CUTS").is_some();
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
     let n = specs.len();
     let mut head = Head::new(p, specs).unwrap();

@@ -649,7 +649,14 @@ fn a_step_too_long_for_one_call_is_refused_untouched() {
 /// normal force: an arc's last sample, where the rim rises to the highest
 /// rock, read inside or out by round-off, and a march step could hide a
 /// second exit; docs/hosts.md, K1.) The demo head's layout, 10 rpm, 6 mm
-/// per revolution, 1 ms steps.
+/// per revolution, 1 ms steps. Since cuts stop short of the front arc
+/// (`cut_cutter_heightmap::Front`) the map steps up where the uncut rock
+/// begins, and in 6 of these 200 steps a disc's normal force moves by up
+/// to 3.9e-6 of itself (a tilted disc, 0.09 N of 24.2 kN; a shallow upright
+/// disc's side force switches between 0 and 0.58 N) and the thrust by
+/// 6.7e-7; whole cuts moved nothing by more than 1e-8 (docs/head.md, "Cuts
+/// stop short of the front arc"). Still three orders below the jumps this
+/// test was written for.
 #[test]
 fn outputs_move_by_round_off_when_the_pose_does_in_a_shallow_deepening_cut() {
     let lay = kerf::core::layout::load(std::path::Path::new("layouts/demo-1.2m.json")).unwrap();
@@ -679,9 +686,9 @@ fn outputs_move_by_round_off_when_the_pose_does_in_a_shallow_deepening_cut() {
             }
         }
     }
-    assert!(thrust < 1e-7, "thrust moved by {thrust:e} of itself");
+    assert!(thrust < 3e-6, "thrust moved by {thrust:e} of itself");
     assert!(
-        disc < 1e-6,
+        disc < 2e-5,
         "a disc's normal force moved by {disc:e} of itself"
     );
 }

@@ -138,6 +138,12 @@ pub struct Numerics {
     pub sweep_step: f64,
     /// Direction rule of the cutting force.
     pub direction: DirectionRule,
+    /// Cut the whole disc at every cut, its front arc too (`false`, the
+    /// default: a rolling disc's cut reaches only half a sweep step ahead
+    /// of its lowest point, since its next cuts take the front arc again;
+    /// see `cut_cutter_heightmap::Front`). Not an FMU parameter: a switch
+    /// for tests and reports that compare the two.
+    pub cut_ahead: bool,
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -215,6 +221,7 @@ impl Default for Numerics {
             p_reg: 5.0e-5,
             sweep_step: 1.0e-3,
             direction: DirectionRule::Kerf,
+            cut_ahead: false,
         }
     }
 }

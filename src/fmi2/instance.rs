@@ -154,6 +154,7 @@ impl Values {
                         ))
                     }
                 },
+                ..Numerics::default()
             },
             chipping: ChipParams {
                 enabled: self.boolean(vr::CHIPPING_ENABLED),

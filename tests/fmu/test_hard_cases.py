@@ -515,11 +515,17 @@ def test_sliding_off_the_side_edge_unloads_without_a_jump(fmu, kind):
     """Same run.  Physics: per sample a strip of tip 0.1 mm wide leaves the
     rock; by the CSM law per unit tip width (F_t / T = R phi P') such a strip
     carries at most R phi(3.8 mm) P' x 0.1 mm = 0.47 kN, so no sample may
-    change by more than that plus the 5 % slack: the force decays gradually
-    to 0 as the tip slides off."""
+    change by more than that plus the slack: the force decays gradually
+    to 0 as the tip slides off.  The slack is the share of the tip's last
+    slice (9 slices across 13 mm): it carries the last millimetre of tip on
+    the rock and leaves it at once.  That remainder was 2.6 kN (4.2 % of F_N)
+    while each cut carved the disc's whole front arc and is 3.2-3.6 kN
+    (6.0 %) since cuts stop short of it: the strip then reads the rock ahead
+    as it stands, 3.6 kN for a 1 mm strip against the CSM's 4.7 kN (it read
+    3.3 kN); hence 6.5 %."""
     res = side_edge_run(kind, fmu)
     strip = R * REF["phi"] * P_PRIME * SIDE_EDGE_VY * H
-    bound = np.full(res["time"].size - 1, strip + 0.05 * FN_REF)
+    bound = np.full(res["time"].size - 1, strip + 0.065 * FN_REF)
     for name in FORCES:
         u.assert_no_jump(res, name, bound, lo=START, where=f"{kind} side edge")
 

@@ -286,6 +286,47 @@ fn a_gauge_cutter_on_a_curved_track_converges_with_the_cell_size() {
     );
 }
 
+/// A tilted disc's side face loads the wall it drives into once the wall
+/// yields (`Motion::face_yield`): going straight the face slides in its own
+/// plane, turning it presses the wall by `L^2 / 2 R_track` at its lowest
+/// point. Without the yield, any curvature loaded the face in full: the
+/// 60 deg disc 6 mm deep read -83.0 kN of side force on a 1000 m track and
+/// -13.5 kN straight. Measured now (1 mm cells, 1.5 m/s): -13.54 kN
+/// straight and at 10 000, 1000 and 600 m; -14.8 / -29.5 / -56.7 / -83.0 kN
+/// at 280 / 200 / 150 / 100 m; -83.1 kN on the 4.83 m gauge track.
+#[test]
+fn a_tilted_discs_side_force_is_continuous_in_the_curvature_through_straight() {
+    let disc = kerf::core::params::CutterParams::default();
+    let at = |radius: f64| {
+        gauge(&disc, 1e-3, 1e-3, 6e-3, -60f64.to_radians(), radius, 1.5)
+            .0
+            .cutting
+    };
+    let straight = at(0.0);
+    let fn_ = straight[0];
+    for r in [10_000.0, 1000.0] {
+        let f = at(r);
+        for i in 0..3 {
+            assert!(
+                (f[i] - straight[i]).abs() < 1e-3 * fn_,
+                "{r} m: {f:?} against straight {straight:?}"
+            );
+        }
+    }
+    // the face's load grows with the curvature, to its full share
+    let curve: Vec<f64> = [280.0, 200.0, 150.0, 100.0, 4.83]
+        .map(|r| at(r)[2])
+        .to_vec();
+    for w in curve.windows(2) {
+        assert!(
+            w[1] < w[0],
+            "side force not growing with the curvature: {curve:?}"
+        );
+    }
+    assert!(curve[0] > straight[2] - 0.05 * fn_, "{curve:?}");
+    assert!((curve[3] - curve[4]).abs() < 0.01 * fn_, "{curve:?}");
+}
+
 #[test]
 fn a_turning_discs_side_force_is_continuous_in_the_tilt_through_upright() {
     // a disc turning on a 1 m track, 6 mm deep in fresh rock: its face

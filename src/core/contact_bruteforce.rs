@@ -108,10 +108,16 @@ pub fn contact_brute(
         else {
             continue;
         };
+        // the face's share as the wall it drives into yields, as the fast
+        // contact takes it (`Motion::face_yield`)
+        let reach = top.map_or(0.0, |t| {
+            (2.0 * disc.radius * (t - disc.lowest_point().z).max(0.0)).sqrt()
+        });
+        let w = w_face * motion.face_yield(side, reach, elastic_depth);
         let dr = (r_hi - r_lo) / res.rings as f64;
         for j in 0..res.rings {
             let r = r_lo + dr * (j as f64 + 0.5);
-            circles.push((Element::ring(disc, side, r, dr, &motion), true, w_face));
+            circles.push((Element::ring(disc, side, r, dr, &motion), true, w));
         }
     }
     if disc.has_flanks() {

@@ -1209,6 +1209,16 @@ pub fn contact(
     // it that reaches below the highest rock
     let axle_z = disc.rot[(2, 1)];
     let w_face = face_weight(axle_z);
+    // each face's share as the wall it drives into yields
+    // (`Motion::face_yield`), over the reach of a cut as deep as the
+    // highest rock near the disc
+    let w_sides = if w_face > 0.0 {
+        let p = (z_top - disc.lowest_point().z).max(0.0);
+        let reach = (2.0 * disc.radius * p).sqrt();
+        [1.0, -1.0].map(|side| w_face * motion.face_yield(side, reach, elastic_depth))
+    } else {
+        [0.0; 2]
+    };
     for side in [1.0f64, -1.0] {
         let Some((r_lo, r_hi)) = face_below(disc, side, z_top).filter(|_| w_face > 0.0) else {
             continue;
@@ -1493,9 +1503,11 @@ pub fn contact(
             } else {
                 1.0
             };
-            // a side face's rings carry its share (`face_weight`)
+            // a side face's rings carry its share (`face_weight`,
+            // `Motion::face_yield`)
             let (load, eff) = if c.is_ring() {
-                (load.scaled(w_face), eff * w_face)
+                let w = w_sides[usize::from(c.face < 0.0)];
+                (load.scaled(w), eff * w)
             } else {
                 (load, eff)
             };

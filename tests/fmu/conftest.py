@@ -142,8 +142,6 @@ _CONTACT_LAW_XFAIL = {
         "face's end",
     "test_sliding_off_the_side_edge_ends_at_zero_without_nan":
         "known gap: contact at the face's side edge",
-    "test_rough_initial_face_from_rsf_follows_the_local_depth":
-        "known gap: 5.05 % from CSM on the rough face (bound 5 %)",
     "test_stepped_initial_face_from_rsf_steps_the_force_once_per_edge":
         "known gap: a step of the initial face is met by the tip slices one at a time",
     "test_thrust_driven_cutter_settles_at_the_csm_depth[underdamped]":

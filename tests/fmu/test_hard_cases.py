@@ -570,7 +570,8 @@ def test_rough_initial_face_from_rsf_follows_the_local_depth(fmu, kind, tmp_path
     the leading arc's depth follows the face ahead (p_geo between ~3.1 and
     4.5 mm), F_N follows the CSM F_N(p_geo) within 5 % (the FMU reads the
     deepest of its tip slices and a 1 mm map of the face) and moves only as
-    fast as the law does."""
+    fast as the law does.  Measured 4.87 % since cuts stop short of the front
+    arc (5.05 % before, a known gap)."""
     sv = rsf_start(tmp_path, rough, "rough")
     ks = u.knots_line(dict(x=0.0, z=Z_REF), ROLL, 0.3)
     res = u.run(kind, fmu, ks, H, start_values=sv)

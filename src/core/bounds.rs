@@ -21,7 +21,7 @@
 //   depth past 1 mm is not an elastic layer; psi <= -1 has no pressure
 //   distribution);
 // - chipping.pressureScale: a factor on the CSM pressure, 0.1 to 10 (its
-//   calibrated default is 1.56; a factor of 10 either way is no longer a
+//   calibrated default is 1.50; a factor of 10 either way is no longer a
 //   calibration of the same law).
 pub const PARAMETER_BOUNDS: &[(&str, f64, f64)] = &[
     ("cutter.radius", 0.02, 2.0),

@@ -288,13 +288,10 @@ impl Disc {
 }
 
 /// How far ahead of `disc` moving with `twist` its cut reaches
-/// ([`Front::of`]). `None` (whole cuts) when `numerics.cut_ahead` asks for
-/// them, and with chipping on: the relieved pass's pressure factor
-/// (`PRESSURE_SCALE_DEFAULT`) was fitted with whole cuts, and on them alone
-/// it brings the relieved mean to the closed form (with cuts that stop
-/// ahead the four seeds' mean read 3.9 % high; a refit is open).
+/// ([`Front::of`]); `None` (whole cuts) when `numerics.cut_ahead` asks for
+/// them.
 fn cut_front(map: &HeightMap, disc: &PosedDisc, twist: &Twist, params: &Params) -> Option<Front> {
-    if params.numerics.cut_ahead || params.chipping.enabled {
+    if params.numerics.cut_ahead {
         return None;
     }
     Front::of(

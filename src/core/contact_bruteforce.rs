@@ -110,9 +110,7 @@ pub fn contact_brute(
         };
         // the face's share as the wall it drives into yields, as the fast
         // contact takes it (`Motion::face_yield`)
-        let reach = top.map_or(0.0, |t| {
-            (2.0 * disc.radius * (t - disc.lowest_point().z).max(0.0)).sqrt()
-        });
+        let reach = top.map_or(0.0, |t| Motion::face_reach(disc, t));
         let w = w_face * motion.face_yield(side, reach, elastic_depth);
         let dr = (r_hi - r_lo) / res.rings as f64;
         for j in 0..res.rings {

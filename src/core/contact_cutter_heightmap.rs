@@ -1213,8 +1213,7 @@ pub fn contact(
     // (`Motion::face_yield`), over the reach of a cut as deep as the
     // highest rock near the disc
     let w_sides = if w_face > 0.0 {
-        let p = (z_top - disc.lowest_point().z).max(0.0);
-        let reach = (2.0 * disc.radius * p).sqrt();
+        let reach = Motion::face_reach(disc, z_top);
         [1.0, -1.0].map(|side| w_face * motion.face_yield(side, reach, elastic_depth))
     } else {
         [0.0; 2]

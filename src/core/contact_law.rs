@@ -296,6 +296,13 @@ impl Motion {
         (1.0 - self.moving) + self.moving * y
     }
 
+    /// The reach ahead of its lowest point of a cut by `disc` as deep as
+    /// the rock at `z_top`: the half chord `sqrt(2 R p)` of its rim, the
+    /// `reach` of [`Motion::face_yield`].
+    pub fn face_reach(disc: &PosedDisc, z_top: f64) -> f64 {
+        (2.0 * disc.radius * (z_top - disc.lowest_point().z).max(0.0)).sqrt()
+    }
+
     /// Where the surface point `q` (cutter frame) is after the look-ahead.
     #[inline]
     pub fn ahead(&self, q: &Vector3<f64>) -> Vector3<f64> {

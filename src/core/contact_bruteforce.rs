@@ -86,17 +86,7 @@ pub fn contact_brute(
         .collect();
     // the highest rock under the disc, which bounds the side face's rings
     // and the flanks' bands to the part that can reach the rock at all
-    let top = {
-        let g = map.grid();
-        let r = disc.radius;
-        g.node_range(
-            disc.centre.x - r - g.dx,
-            disc.centre.x + r + g.dx,
-            disc.centre.y - r - g.dy,
-            disc.centre.y + r + g.dy,
-        )
-        .map(|(i0, i1, j0, j1)| map.max_height(i0, i1, j0, j1))
-    };
+    let top = map.highest_within(disc.centre.x, disc.centre.y, disc.radius);
     let w_face = face_weight(disc.rot[(2, 1)]);
     for side in [1.0f64, -1.0] {
         // the law loads a moving disc's face only where it drives ahead of

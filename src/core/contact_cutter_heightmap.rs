@@ -1170,16 +1170,9 @@ pub fn contact(
     let g = map.grid();
     let none = Contact::default();
     // highest rock anywhere under the disc
-    let r = disc.radius;
-    let Some((i0, i1, j0, j1)) = g.node_range(
-        disc.centre.x - r - g.dx,
-        disc.centre.x + r + g.dx,
-        disc.centre.y - r - g.dy,
-        disc.centre.y + r + g.dy,
-    ) else {
+    let Some(z_top) = map.highest_within(disc.centre.x, disc.centre.y, disc.radius) else {
         return none;
     };
-    let z_top = map.max_height(i0, i1, j0, j1);
     if disc.footprint_below(z_top).is_none() {
         return none;
     }

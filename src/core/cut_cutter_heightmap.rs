@@ -172,14 +172,7 @@ impl Window {
 /// of this cut: lower rock only shrinks the part of the disc below it.
 pub fn node_window(map: &HeightMap, disc: &PosedDisc, front: Option<Front>) -> Option<Window> {
     let g = map.grid();
-    let r = disc.radius;
-    let (i0, i1, j0, j1) = g.node_range(
-        disc.centre.x - r - g.dx,
-        disc.centre.x + r + g.dx,
-        disc.centre.y - r - g.dy,
-        disc.centre.y + r + g.dy,
-    )?;
-    let z_top = map.max_height(i0, i1, j0, j1);
+    let z_top = map.highest_within(disc.centre.x, disc.centre.y, disc.radius)?;
     let bb = disc.footprint_below(z_top)?;
     let (i0, i1, j0, j1) = g.node_range(bb[0], bb[1], bb[2], bb[3])?;
     let z_top = map.max_height(i0, i1, j0, j1).min(z_top);

@@ -734,6 +734,16 @@ impl HeightMap {
         }
     }
 
+    /// An upper bound of the rock within `r` plus a cell of `(x, y)` in
+    /// plan (the nodes of that square; [`HeightMap::max_height`]), `None`
+    /// when the square misses the map: the highest rock a disc of radius
+    /// `r` centred over `(x, y)` can meet.
+    pub fn highest_within(&self, x: f64, y: f64, r: f64) -> Option<f64> {
+        let g = self.grid();
+        g.node_range(x - r - g.dx, x + r + g.dx, y - r - g.dy, y + r + g.dy)
+            .map(|(i0, i1, j0, j1)| self.max_height(i0, i1, j0, j1))
+    }
+
     /// An upper bound of the node heights with indices in the given ranges.
     pub fn max_height(&self, i0: usize, i1: usize, j0: usize, j1: usize) -> f64 {
         let mut m = NO_ROCK;

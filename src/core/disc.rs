@@ -46,10 +46,6 @@ pub struct Disc {
     /// The last evaluation (pose, twist, relieved, outputs without
     /// bookkeeping); cleared whenever the face changes.
     cache: Kept,
-    /// The evaluation right after the last Model Exchange commit, at the
-    /// pose it cut to ([`commit_paths`] books the next commit's energy from
-    /// it); cleared with `cache`.
-    after_commit: Kept,
     /// The disc turns freely on its bearing ([`Disc::turning_freely`]).
     free: bool,
 }
@@ -61,7 +57,6 @@ impl Clone for Disc {
             plain: self.plain,
             relieved: self.relieved,
             cache: Cell::new(None),
-            after_commit: Cell::new(None),
             free: self.free,
         }
     }
@@ -82,6 +77,12 @@ pub struct DiscState {
     /// Where the disc last cut (end of the last commit or sweep): the next
     /// Model Exchange commit cuts along the path from here.
     pub(crate) last_cut: Option<Pose>,
+    /// The power the disc put into the rock just after its last cut, at the
+    /// twist of that time \[W\] (0 before the first): the start of the next
+    /// step's or commit's trapezoid for the cutting energy, so that the
+    /// power there is not evaluated a second time (with the new twist, or at
+    /// a start pose the host set a round-off away from the last end).
+    pub(crate) last_power: f64,
     /// Where the chips are along the disc's path (chipping on).
     pub(crate) chips: ChipState,
 }
@@ -91,6 +92,7 @@ impl DiscState {
     pub fn new(params: &Params) -> Self {
         Self {
             last_cut: None,
+            last_power: 0.0,
             chips: ChipState::new(&params.chipping),
         }
     }
@@ -115,7 +117,6 @@ impl Disc {
             plain: CsmLaw::new(cutter, csm, p_reg),
             relieved: CsmLaw::scaled(cutter, csm, p_reg, pressure_scale),
             cache: Cell::new(None),
-            after_commit: Cell::new(None),
             free: false,
         }
     }
@@ -233,24 +234,9 @@ impl Disc {
         o
     }
 
-    /// Drops the cached evaluations (the face changed).
+    /// Drops the cached evaluation (the face changed).
     pub fn forget(&self) {
         self.cache.set(None);
-        self.after_commit.set(None);
-    }
-
-    /// [`Disc::evaluate`] at `pose`, through the evaluation kept from the
-    /// last commit when that commit cut to `pose` with `twist`.
-    fn evaluate_after_commit(
-        &self,
-        map: &HeightMap,
-        state: &DiscState,
-        pose: &Pose,
-        twist: &Twist,
-        params: &Params,
-    ) -> Outputs {
-        cached(&self.after_commit, &(*pose, *twist, state.chips.relieved()))
-            .unwrap_or_else(|| self.evaluate(map, state, pose, twist, params))
     }
 
     /// Would a cut at `pose` change the face?
@@ -472,17 +458,11 @@ pub fn commit_paths(
     let what = "the event's paths since the last commit";
     check_call(&face.map, discs, &groups, at, what, dt)?;
     // nothing fails from here on: the commit is all or nothing
-    // the energy takes kerf.fmu's trapezoid between the outputs after the
-    // last commit (each disc at its last cut, on the face that commit left)
-    // and those after this one
-    let before: Vec<Option<Outputs>> = discs
-        .par_iter_mut()
-        .zip(states.par_iter())
-        .zip(motions.par_iter())
-        .map(|((d, s), (_, twist))| {
-            s.last_cut
-                .map(|prev| d.evaluate_after_commit(&face.map, s, &prev, twist, params))
-        })
+    // the energy takes kerf.fmu's trapezoid between the power after the
+    // last commit (`DiscState::last_power`) and the power after this one
+    let before: Vec<Option<f64>> = states
+        .iter()
+        .map(|s| s.last_cut.map(|_| s.last_power))
         .collect();
     let (changed, _) = cut_in_time_order(face, discs, states, params, &groups, at)?;
     for (s, (pose, _)) in states.iter_mut().zip(motions) {
@@ -492,18 +472,22 @@ pub fn commit_paths(
         discs.iter().for_each(Disc::forget);
     }
     let after = evaluate_all(discs, states, &face.map, motions, params);
-    for (i, (pose, twist)) in motions.iter().enumerate() {
-        let a = after[i].work_on_rock(twist, dt);
-        face.cutting_energy += match &before[i] {
-            Some(b) => 0.5 * (b.work_on_rock(twist, dt) + a),
-            None => a,
-        };
-        let relieved = states[i].chips.relieved();
-        discs[i]
-            .after_commit
-            .set(Some((*pose, *twist, relieved, after[i])));
+    for (i, (_, twist)) in motions.iter().enumerate() {
+        let p1 = after[i].power_into_rock(twist);
+        face.cutting_energy += energy_over(before[i], p1, dt);
+        states[i].last_power = p1;
     }
     Ok(changed)
+}
+
+/// The cutting energy over `dt` by the trapezoidal rule between the power
+/// `p0` at the start (`None`: nothing cut before, the rectangle at the end)
+/// and `p1` at the end \[J\]: kerf.fmu and the head share it.
+pub(crate) fn energy_over(p0: Option<f64>, p1: f64, dt: f64) -> f64 {
+    match p0 {
+        Some(p0) => 0.5 * (p0 + p1) * dt,
+        None => p1 * dt,
+    }
 }
 
 /// Refuses, before anything changes, a call in which some disc would take
@@ -644,18 +628,26 @@ pub fn sweep(
     // nothing fails from here on: the step is all or nothing
     // at the start of the run (nothing cut yet) a disc's start pose is cut
     // first, as Model Exchange's initial event does (kerf.fmu's rule)
-    let mut first = false;
+    let first: Vec<bool> = states.iter().map(|s| s.last_cut.is_none()).collect();
     for (i, (pose, twist)) in start.iter().enumerate() {
-        if states[i].last_cut.is_none() {
+        if first[i] {
             discs[i].cut_at(face, &mut states[i], pose, twist, params);
             states[i].last_cut = Some(*pose);
-            first = true;
         }
     }
-    if first {
+    // the energy's trapezoid starts from the power after the last step
+    // (`DiscState::last_power`), or, for a disc cut first here, from the
+    // power at its start pose
+    let mut p0: Vec<f64> = states.iter().map(|s| s.last_power).collect();
+    if first.contains(&true) {
         discs.iter().for_each(Disc::forget);
+        for (i, (pose, twist)) in start.iter().enumerate() {
+            if first[i] {
+                let o = discs[i].evaluate(&face.map, &states[i], pose, twist, params);
+                p0[i] = o.power_into_rock(twist);
+            }
+        }
     }
-    let o0 = evaluate_all(discs, states, &face.map, start, params);
     if params.chipping.enabled {
         // a path that does not continue the last one starts here: chip
         // boundaries count on from this pose, not from the first sub-step
@@ -674,12 +666,11 @@ pub fn sweep(
     // the last time is k / n = 1 for every disc: `end` holds the motions at h
     discs.iter().for_each(Disc::forget);
     let o1 = evaluate_all(discs, states, &face.map, &end, params);
-    for i in 0..discs.len() {
-        face.cutting_energy +=
-            0.5 * (o0[i].work_on_rock(&start[i].1, h) + o1[i].work_on_rock(&end[i].1, h));
-    }
-    for (s, (pose, _)) in states.iter_mut().zip(&end) {
+    for (i, (s, (pose, twist))) in states.iter_mut().zip(&end).enumerate() {
+        let p1 = o1[i].power_into_rock(twist);
+        face.cutting_energy += energy_over(Some(p0[i]), p1, h);
         s.last_cut = Some(*pose);
+        s.last_power = p1;
     }
     Ok(end)
 }

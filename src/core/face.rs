@@ -143,6 +143,7 @@ pub(crate) mod blob {
             }
             None => v.push(0),
         }
+        f64s(v, &[s.last_power]);
         let c = &s.chips;
         f64s(v, &[c.travel, c.next, c.volume]);
         u64s(v, &[c.index, c.count]);
@@ -256,6 +257,10 @@ pub(crate) mod blob {
                 }
                 _ => return Err(bad("bad last-cut flag")),
             };
+            let last_power = self.f64()?;
+            if !last_power.is_finite() {
+                return Err(bad("non-finite last power"));
+            }
             let mut cf = [0f64; 3];
             for x in &mut cf {
                 *x = self.f64()?;
@@ -284,6 +289,7 @@ pub(crate) mod blob {
             let [travel, next, volume] = cf;
             Ok(DiscState {
                 last_cut,
+                last_power,
                 chips: ChipState {
                     travel,
                     index,

@@ -130,8 +130,9 @@ pub struct HeadState {
 
 const MAGIC: &[u8; 8] = b"KERFHEAD";
 /// 2: tiles carry the height bound the map keeps; 3: every disc's state
-/// carries the chip boundaries since its pass's last chip.
-const VERSION: u32 = 3;
+/// carries the chip boundaries since its pass's last chip; 4: and the
+/// power after its last cut.
+const VERSION: u32 = 4;
 
 impl HeadState {
     pub fn face(&self) -> &Face {

@@ -1,15 +1,13 @@
 //! The model: parameters, the rock and the bookkeeping, and the three
 //! operations the FMI layer needs (evaluate, commit, advance).
 
-use std::cell::Cell;
-
 use nalgebra::{UnitQuaternion, Vector3};
 
 use super::contact_cutter_heightmap::Contact;
 use super::csm::CsmLaw;
 use super::cut_cutter_heightmap::window_nodes;
 use super::cutter::PosedDisc;
-use super::disc::{chip_max_step, Disc, DiscState};
+use super::disc::{chip_max_step, energy_over, Disc, DiscState};
 use super::error::{KerfError, Result};
 use super::face::{self, blob, Face};
 use super::heightmap::HeightMap;
@@ -59,8 +57,9 @@ pub struct ModelState {
 const MAGIC: &[u8; 8] = b"KERFCORE";
 /// 4: tiles carry their cut masks; 5: and the height bound the map keeps;
 /// 6: the disc's state carries the chip boundaries since its pass's last
-/// chip (`ChipState::quiet`).
-const VERSION: u32 = 6;
+/// chip (`ChipState::quiet`); 7: and the power after its last cut
+/// (`DiscState::last_power`).
+const VERSION: u32 = 7;
 
 impl ModelState {
     /// Versioned little-endian binary form: magic, version, grid, bookkeeping,
@@ -174,9 +173,15 @@ impl Outputs {
     /// Work of the cutter on the rock over `dt` at these outputs: the rock's
     /// force and moment on the cutter, negated, times the cutter's velocities.
     pub fn work_on_rock(&self, twist: &Twist, dt: f64) -> f64 {
+        self.power_into_rock(twist) * dt
+    }
+
+    /// Power of the cutter into the rock at these outputs \[W\]: the rock's
+    /// force and moment on the cutter, negated, times the cutter's velocities.
+    pub fn power_into_rock(&self, twist: &Twist) -> f64 {
         let f = Vector3::from(self.force);
         let m = Vector3::from(self.moment);
-        -(f.dot(&twist.velocity) + m.dot(&twist.omega)) * dt
+        -(f.dot(&twist.velocity) + m.dot(&twist.omega))
     }
 }
 
@@ -315,10 +320,6 @@ pub struct Model {
     /// otherwise).
     disc: Disc,
     state: ModelState,
-    /// The outputs right after the last commit (pose, twist, outputs): the
-    /// start of the next commit's trapezoidal work. Only a cache (a restored
-    /// state recomputes it from the rock and the last cut's pose).
-    after_commit: Cell<Option<(Pose, Twist, Outputs)>>,
 }
 
 impl Model {
@@ -341,7 +342,6 @@ impl Model {
             params,
             disc,
             state,
-            after_commit: Cell::new(None),
         })
     }
 
@@ -477,21 +477,17 @@ impl Model {
     /// inputs. A longer jump (a host that moves the cutter to start a new
     /// pass) is not a path: only the new pose is cut.
     ///
-    /// The energy takes the trapezoidal rule between the outputs after the
-    /// previous cut and those after this one, as [`Model::advance`] does over
-    /// a step, so that events at a Co-Simulation host's communication points
-    /// book the same work.
+    /// The energy takes the trapezoidal rule between the power after the
+    /// previous cut (with the twist of that time, `DiscState::last_power`)
+    /// and the power after this one, as [`Model::advance`] does over a step,
+    /// so that events at a Co-Simulation host's communication points book
+    /// the same work. (The power at the start is the one the outputs gave
+    /// then: it is not evaluated again with the new twist.)
     pub fn commit(&mut self, pose: &Pose, twist: &Twist, dt: f64) -> Result<bool> {
         check_interval(dt)?;
         pose.validate()?;
         twist.validate()?;
-        let before = match self.state.disc.last_cut {
-            Some(prev) => Some(match self.after_commit.get() {
-                Some((p, t, o)) if p == prev && t == *twist => o,
-                _ => self.evaluate(&prev, twist)?,
-            }),
-            None => None,
-        };
+        let before = self.state.disc.last_cut.map(|_| self.state.disc.last_power);
         // the path, checked whole before anything changes
         let mut path: Option<(UnitQuaternion<f64>, UnitQuaternion<f64>, Pose, usize)> = None;
         if let Some(prev) = self.state.disc.last_cut {
@@ -527,12 +523,9 @@ impl Model {
             }
             changed |= m.cut_at(pose, twist);
             m.state.disc.last_cut = Some(*pose);
-            let after = m.evaluate(pose, twist)?;
-            m.after_commit.set(Some((*pose, *twist, after)));
-            m.state.face.cutting_energy += match before {
-                Some(b) => 0.5 * (b.work_on_rock(twist, dt) + after.work_on_rock(twist, dt)),
-                None => after.work_on_rock(twist, dt),
-            };
+            let p1 = m.evaluate(pose, twist)?.power_into_rock(twist);
+            m.state.face.cutting_energy += energy_over(before, p1, dt);
+            m.state.disc.last_power = p1;
             Ok(changed)
         })
     }
@@ -613,11 +606,16 @@ impl Model {
         // the whole path is checked before anything changes
         self.check_visits((1..=n).map(along), "the step", h)?;
         self.transaction(|m| {
-            if m.state.disc.last_cut.is_none() {
+            // the trapezoid starts from the power after the last step, or at
+            // the start of the run (nothing cut yet) from the power at the
+            // start pose, cut first as Model Exchange's initial event does
+            let p0 = if m.state.disc.last_cut.is_none() {
                 m.cut_at(start, twist);
                 m.state.disc.last_cut = Some(*start);
-            }
-            let o0 = m.evaluate(start, twist)?;
+                m.evaluate(start, twist)?.power_into_rock(twist)
+            } else {
+                m.state.disc.last_power
+            };
             if m.params.chipping.enabled {
                 // a path that does not continue the last one starts here: chip
                 // boundaries count on from this pose, not from the first sub-step
@@ -635,10 +633,10 @@ impl Model {
                 end = along(k);
                 m.cut_at(&end, twist);
             }
-            let o1 = m.evaluate(&end, twist)?;
-            m.state.face.cutting_energy +=
-                0.5 * (o0.work_on_rock(twist, h) + o1.work_on_rock(twist, h));
+            let p1 = m.evaluate(&end, twist)?.power_into_rock(twist);
+            m.state.face.cutting_energy += energy_over(Some(p0), p1, h);
             m.state.disc.last_cut = Some(end);
+            m.state.disc.last_power = p1;
             Ok(end)
         })
     }
@@ -657,7 +655,6 @@ impl Model {
         }
         self.state = s.clone();
         self.disc.forget();
-        self.after_commit.set(None);
         Ok(())
     }
 

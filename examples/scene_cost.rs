@@ -1,0 +1,39 @@
+//! One scene of `kerf::scenes` for an instruction-count profile:
+//! `valgrind --tool=callgrind target/release/examples/scene_cost curved 0.5`
+//! (scenes: `straight`, `tilted DEG`, `curved R`, `reroll R`, `gauge DEG R`,
+//! `deeper R D1 D2`: a 19 in disc's second lap of an R track, D2 deep, in
+//! the groove of a first lap D1 deep, as a head's face disc runs).
+use kerf::scenes::*;
+fn main() {
+    let a: Vec<String> = std::env::args().skip(1).collect();
+    let x = |i: usize, d: f64| a.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
+    let plan = match a.first().map(String::as_str).unwrap_or("straight") {
+        "tilted" => fresh_plan(1e-3, P_REF, x(1, 30.0).to_radians()),
+        "curved" => lap_plan(1e-3, P_REF, x(1, 0.5), false),
+        "reroll" => lap_plan(1e-3, P_REF, x(1, 0.5), true),
+        "gauge" => gauge_plan(1e-3, P_REF, x(1, -60f64).to_radians(), x(2, 4.83)),
+        "deeper" => {
+            let (rt, d1, d2) = (x(1, 2.0), x(2, 0.006), x(3, 0.012));
+            let mut prm = lap_plan(1e-3, d2, rt, true).prm;
+            let c = &mut prm.cutter;
+            (c.radius, c.tip_width, c.tip_radius) = (0.2413, 0.019, 0.0127);
+            let a0 = -std::f64::consts::FRAC_PI_2 - (0.5 * (PASS + 0.2) - 0.1) / rt;
+            let lap = |a0: f64, depth: f64| Circle {
+                prm: prm.clone(),
+                cx: 0.0,
+                cy: rt,
+                radius: rt,
+                a0,
+                depth,
+            };
+            let passes: Vec<(Box<dyn Track>, f64)> = vec![
+                (Box::new(lap(a0 - 0.1 / rt, d1)), PASS + 0.2),
+                (Box::new(lap(a0, d2)), PASS),
+            ];
+            Plan { prm, passes }
+        }
+        _ => fresh_plan(1e-3, P_REF, 0.0),
+    };
+    let m = plan.run();
+    println!("{:?} {:.1} us", m.cutting, m.us_median);
+}

@@ -83,7 +83,7 @@ pub fn pose_with_lowest_point(
 /// The free-rolling twist of a disc at `pose` moving at `speed` along its
 /// heading, turning at `yaw_rate` about the vertical.
 pub fn rolling_twist(prm: &Params, pose: &Pose, speed: f64, yaw_rate: f64) -> Twist {
-    let rot = pose.rotation();
+    let rot = pose.cutter_rotation();
     let heading = rot * Vector3::x();
     let heading = Vector3::new(heading.x, heading.y, 0.0).normalize() * speed;
     let axle = rot * Vector3::y();
@@ -92,7 +92,7 @@ pub fn rolling_twist(prm: &Params, pose: &Pose, speed: f64, yaw_rate: f64) -> Tw
 }
 
 fn cutter_frame(o: &Outputs, pose: &Pose) -> ([f64; 3], [f64; 3]) {
-    let rt = pose.rotation().transpose();
+    let rt = pose.cutter_rotation().transpose();
     let m = rt * Vector3::from(o.moment);
     (
         [o.normal_force, o.rolling_force, o.side_force],
@@ -504,7 +504,7 @@ pub fn oracle_scenes(cell: f64) -> Vec<(String, Model, Pose, Twist)> {
 /// A contact's cutting force (rim and faces, no friction) in the cutter
 /// frame: normal (+z), rolling (-x), side (+y).
 pub fn cutting_force(pose: &Pose, c: &crate::core::contact_cutter_heightmap::Contact) -> [f64; 3] {
-    let f = pose.rotation().transpose() * (c.rim_force + c.side_force);
+    let f = pose.cutter_rotation().transpose() * (c.rim_force + c.side_force);
     [f.z, -f.x, f.y]
 }
 

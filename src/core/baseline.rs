@@ -204,7 +204,7 @@ impl BaselineModel {
         pose.validate()?;
         twist.validate()?;
         let c = self.contact(pose);
-        let rot = pose.rotation();
+        let rot = pose.cutter_rotation();
         let f = &self.params.friction;
         let friction = if c.in_contact {
             let slip_v = twist.velocity + twist.omega.cross(&c.application);

@@ -58,7 +58,7 @@ impl PosedDisc {
             radius: c.radius,
             half_width: 0.5 * c.tip_width,
             tip_radius: c.tip_radius,
-            rot: *pose.rotation().matrix(),
+            rot: *pose.cutter_rotation().matrix(),
             centre: pose.position,
             hub_half_width: if c.has_flanks() {
                 0.5 * c.hub_width

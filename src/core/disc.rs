@@ -29,7 +29,7 @@ use super::face::Face;
 use super::heightmap::{HeightMap, TileRect};
 use super::model::{
     bound_sub_steps, bound_visits, check_interval, cut_visits, friction_force, most_visits_per_cut,
-    steps_for, Outputs,
+    rim_speed, rim_travel_between, steps_for, Outputs,
 };
 use super::params::MAX_NODE_VISITS_PER_CALL;
 use super::params::{CsmParams, CutterParams, DirectionRule, Params};
@@ -191,7 +191,7 @@ impl Disc {
         params: &Params,
     ) -> Outputs {
         let c = self.contact(map, state, pose, twist, params);
-        let rot = pose.rotation();
+        let rot = pose.cutter_rotation();
         // friction on the slip of the rim over the rock where the contact is
         // lowest (kerf) or at the point of force application (thesis eq. 56)
         let mut slip_v = twist.velocity + twist.omega.cross(&c.slip_point);
@@ -427,8 +427,8 @@ pub fn commit_paths(
             plan.as_ref().map_or(1, |(prev, q0, q1)| {
                 // kerf.fmu's count (`Model::commit`): the same rim travel,
                 // the same forgiving of round-off
-                let travel =
-                    (pose.position - prev.position).norm() + q0.angle_to(q1) * d.cutter.radius;
+                let dp = pose.position - prev.position;
+                let travel = rim_travel_between(&dp, q0, q1, d.cutter.radius);
                 steps_for(travel, params.numerics.sweep_step).min(1.0e7) as usize
             })
         })
@@ -760,10 +760,7 @@ fn cut_together(
 /// with `twist` travels more than `numerics.sweep_step` (the spin about the
 /// axle does not count: a rolling rim point does not move over the rock).
 pub fn sub_steps(pose: &Pose, twist: &Twist, radius: f64, h: f64, params: &Params) -> usize {
-    let rot = pose.rotation();
-    let axle = rot * Vector3::y();
-    let w_frame = twist.omega - axle * twist.omega.dot(&axle);
-    let travel = (twist.velocity.norm() + w_frame.norm() * radius) * h;
+    let travel = rim_speed(pose, twist, radius) * h;
     steps_for(travel, params.numerics.sweep_step).min(1.0e7) as usize
 }
 

@@ -68,6 +68,27 @@ impl Pose {
         Rotation3::from_euler_angles(self.roll, self.pitch, self.yaw)
     }
 
+    /// The cutter frame of a disc at this pose, as the contract defines it
+    /// (interface.md): `y` the axle, `z` from the rim's lowest point to the
+    /// centre, `x` the rolling direction, horizontal. That is
+    /// [`Pose::rotation`] turned about its own axle until its `x` is
+    /// horizontal and its `z` points up: a disc is a body of revolution, so
+    /// a host that gives the pose the angle the disc has spun to (a
+    /// revolute joint's pitch) poses the same disc, and the law's rolling
+    /// direction, its outputs' normal and rolling forces and the contact's
+    /// angles follow the disc, not the spin. The same matrix, bit for bit,
+    /// when `x` is already horizontal and `z` up (pitch 0 and |roll| < 90
+    /// deg, as every pose the head places). A vertical axle (a disc lying
+    /// flat) keeps the pose's own frame.
+    pub fn cutter_rotation(&self) -> Rotation3<f64> {
+        let r = self.rotation();
+        let (a, b) = (r[(2, 0)], r[(2, 2)]);
+        if a == 0.0 && b >= 0.0 {
+            return r;
+        }
+        r * Rotation3::from_axis_angle(&Vector3::y_axis(), a.atan2(b))
+    }
+
     /// Builds a pose from a rotation, inverse of [`Pose::rotation`].
     pub fn from_rotation(position: Vector3<f64>, r: &Rotation3<f64>) -> Self {
         let (roll, pitch, yaw) = r.euler_angles();

@@ -78,8 +78,8 @@ impl Pose {
     /// direction, its outputs' normal and rolling forces and the contact's
     /// angles follow the disc, not the spin. The same matrix, bit for bit,
     /// when `x` is already horizontal and `z` up (pitch 0 and |roll| < 90
-    /// deg, as every pose the head places). A vertical axle (a disc lying
-    /// flat) keeps the pose's own frame.
+    /// deg, as every disc of a head whose axis is vertical). A vertical
+    /// axle (a disc lying flat) keeps the pose's own frame.
     pub fn cutter_rotation(&self) -> Rotation3<f64> {
         let r = self.rotation();
         let (a, b) = (r[(2, 0)], r[(2, 2)]);

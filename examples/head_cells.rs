@@ -2,7 +2,8 @@
 //! coarsen: the layout's head bores from the steady start (`p_rev` per
 //! revolution at `rpm`, 1 ms steps) for `steps` steps at each setting
 //! `cell_mm:sweep_mm` (`cell_mm:sweep_mm:whole`: every cut takes the
-//! disc's whole front arc, `numerics.cut_ahead`); each setting's mean thrust, torque and per-disc
+//! disc's whole front arc, `numerics.cut_ahead`; `...:sN`: `N` tip slices,
+//! `numerics.tip_slices`); each setting's mean thrust, torque and per-disc
 //! loads are compared with the first setting's (the reference).
 //! `cargo run --release --example head_cells -- layouts/reference-9.72m.json 300 0.5:0.5 1:1 2:2`
 //! (docs/head.md, "Gauge cutters on curved tracks"). Prints one row a
@@ -25,9 +26,12 @@ struct Run {
     side: Vec<f64>,
 }
 
+/// Cell, sweep step, whole cuts, tip slices (`None`: the default).
+type Setting = (f64, f64, bool, Option<usize>);
+
 fn run(
     file: &str,
-    (cell, sweep, whole): (f64, f64, bool),
+    (cell, sweep, whole, slices): Setting,
     steps: usize,
     rpm: f64,
     p_rev: f64,
@@ -42,6 +46,9 @@ fn run(
     let mut p = default_params(&lay, cell);
     p.numerics.sweep_step = sweep;
     p.numerics.cut_ahead = whole;
+    if let Some(n) = slices {
+        p.numerics.tip_slices = n;
+    }
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
     let n = specs.len();
     let mut head = Head::new(p, specs).unwrap();
@@ -78,27 +85,30 @@ fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
     let file = a.first().map_or("layouts/reference-9.72m.json", |s| s);
     let steps: usize = a.get(1).map_or(300, |s| s.parse().unwrap());
-    let settings: Vec<(f64, f64, bool)> = if a.len() > 2 {
+    let settings: Vec<Setting> = if a.len() > 2 {
         a[2..]
             .iter()
             .map(|s| {
                 let mut f = s.split(':');
                 let mut mm = || {
                     f.next()
-                        .expect("cell_mm:sweep_mm[:whole]")
+                        .expect("cell_mm:sweep_mm[:whole][:sN]")
                         .parse::<f64>()
                         .unwrap()
                         * 1e-3
                 };
                 let (c, w) = (mm(), mm());
-                (c, w, s.ends_with(":whole"))
+                let slices = s
+                    .split(':')
+                    .find_map(|t| t.strip_prefix('s').map(|n| n.parse().unwrap()));
+                (c, w, s.split(':').any(|t| t == "whole"), slices)
             })
             .collect()
     } else {
         vec![
-            (0.5e-3, 0.5e-3, false),
-            (1e-3, 1e-3, false),
-            (2e-3, 2e-3, false),
+            (0.5e-3, 0.5e-3, false, None),
+            (1e-3, 1e-3, false, None),
+            (2e-3, 2e-3, false, None),
         ]
     };
     let (rpm, p_rev) = (3.0, 0.006);
@@ -111,8 +121,9 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|---|---|---|");
     let mut reference: Option<Run> = None;
-    for (cell, sweep, whole) in settings {
-        let r = run(file, (cell, sweep, whole), steps, rpm, p_rev);
+    for setting in settings {
+        let r = run(file, setting, steps, rpm, p_rev);
+        let (cell, sweep, whole, slices) = setting;
         let (e_t, e_q, e_n, e_s) = match &reference {
             None => (0.0, 0.0, 0.0, 0.0),
             Some(f) => {
@@ -131,10 +142,17 @@ fn main() {
                 )
             }
         };
+        let mut sweep = format!("{}", sweep * 1e3);
+        if whole {
+            sweep += ", whole cuts";
+        }
+        if let Some(n) = slices {
+            sweep += &format!(", {n} tip slices");
+        }
         println!(
             "| {} | {} | {:.2} | {:.0} | {:+.2} % | {:.0} | {:+.2} % | {:.2} % | {:.2} % |",
             cell * 1e3,
-            sweep * 1e3,
+            sweep,
             r.ms,
             r.thrust / 1e3,
             100.0 * e_t,

@@ -1,6 +1,6 @@
 //! Cost of a cutterhead step: the layout's discs boring from the steady
 //! start at `rpm` with `p_rev` per revolution, `steps` steps of `h`.
-//! `cargo run --release --example head_cost -- layouts/reference-9.72m.json [h] [steps] [rpm] [p_rev] [sweep_step]`
+//! `cargo run --release --example head_cost -- layouts/reference-9.72m.json [h] [steps] [rpm] [p_rev] [sweep_step] [cell]`
 //! Prints the median wall time per step and per disc-step (set
 //! RAYON_NUM_THREADS for the thread count; WHOLE_CUTS=1 makes every cut
 //! take the disc's whole front arc, `numerics.cut_ahead`).
@@ -19,7 +19,7 @@ fn main() {
         num(4, 0.006),
     );
     let lay = layout::load(std::path::Path::new(file)).unwrap();
-    let mut p = default_params(&lay, 1e-3);
+    let mut p = default_params(&lay, num(6, 1e-3));
     if let Some(s) = a.get(5) {
         p.numerics.sweep_step = s.parse().unwrap();
     }

@@ -111,8 +111,15 @@ impl Front {
 pub struct Window {
     j0: usize,
     j1: usize,
-    /// World box `[x_lo, x_hi]` and the heading box: `(cos, sin)` of the
-    /// heading and `[u_lo, u_hi, v_lo, v_hi]` about the rock origin.
+    /// Each row's node range (`rows[j - j0]`, `None`: none), found once:
+    /// the tiles a cut writes and the cut itself read the same rows.
+    rows: Vec<Option<(usize, usize)>>,
+}
+
+/// The bounds a [`Window`]'s rows are clipped to: the world box
+/// `[x_lo, x_hi]` and the heading box, `(cos, sin)` of the heading and
+/// `[u_lo, u_hi, v_lo, v_hi]` about the rock origin, and the front.
+struct Bounds {
     x: [f64; 2],
     heading: (f64, f64),
     uv: [f64; 4],
@@ -123,10 +130,9 @@ impl Window {
     /// The tiles of `map` holding every node the window scans, or `None`
     /// when it scans none.
     pub fn tiles(&self, map: &HeightMap) -> Option<TileRect> {
-        let g = map.grid();
         let mut b: Option<[usize; 4]> = None;
         for j in self.j0..=self.j1 {
-            if let Some((i0, i1)) = self.row(g, j) {
+            if let Some((i0, i1)) = self.row(j) {
                 let v = b.get_or_insert([i0, i1, j, j]);
                 *v = [v[0].min(i0), v[1].max(i1), v[2].min(j), v[3].max(j)];
             }
@@ -134,6 +140,13 @@ impl Window {
         b.map(|[i0, i1, j0, j1]| map.tile_rect(i0, i1, j0, j1))
     }
 
+    /// The node range of row `j`, or `None`.
+    fn row(&self, j: usize) -> Option<(usize, usize)> {
+        self.rows.get(j.wrapping_sub(self.j0)).copied().flatten()
+    }
+}
+
+impl Bounds {
     /// The node range of row `j`, or `None`.
     fn row(&self, g: &Grid, j: usize) -> Option<(usize, usize)> {
         let y = g.y_min + g.dy * j as f64;
@@ -188,24 +201,23 @@ pub fn node_window(map: &HeightMap, disc: &PosedDisc, front: Option<Front>) -> O
         ..*disc
     };
     let uv = turned.footprint_below(z_top)?;
-    Some(Window {
-        j0,
-        j1,
+    let bounds = Bounds {
         x: [bb[0], bb[1]],
         heading: (c, s),
         uv,
         front,
+    };
+    Some(Window {
+        j0,
+        j1,
+        rows: (j0..=j1).map(|j| bounds.row(g, j)).collect(),
     })
 }
 
 /// How many nodes [`cut`] or [`would_cut`] at this pose would scan at most.
 pub fn window_nodes(map: &HeightMap, disc: &PosedDisc) -> usize {
-    let g = map.grid();
     node_window(map, disc, None).map_or(0, |w| {
-        (w.j0..=w.j1)
-            .filter_map(|j| w.row(g, j))
-            .map(|(i0, i1)| i1 - i0 + 1)
-            .sum()
+        w.rows.iter().flatten().map(|(i0, i1)| i1 - i0 + 1).sum()
     })
 }
 
@@ -301,7 +313,7 @@ fn sweep_nodes<M: Nodes>(
         Some(z - drop)
     };
     for j in w.j0..=w.j1 {
-        let Some((i0, i1)) = w.row(&g, j) else {
+        let Some((i0, i1)) = w.row(j) else {
             continue;
         };
         // a row that keeps its axle coordinate (heading along a grid axis;

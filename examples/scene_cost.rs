@@ -13,24 +13,10 @@ fn main() {
         "reroll" => lap_plan(1e-3, P_REF, x(1, 0.5), true),
         "gauge" => gauge_plan(1e-3, P_REF, x(1, -60f64).to_radians(), x(2, 4.83)),
         "deeper" => {
-            let (rt, d1, d2) = (x(1, 2.0), x(2, 0.006), x(3, 0.012));
-            let mut prm = lap_plan(1e-3, d2, rt, true).prm;
-            let c = &mut prm.cutter;
+            let mut c = kerf::core::Params::default().cutter;
             (c.radius, c.tip_width, c.tip_radius) = (0.2413, 0.019, 0.0127);
-            let a0 = -std::f64::consts::FRAC_PI_2 - (0.5 * (PASS + 0.2) - 0.1) / rt;
-            let lap = |a0: f64, depth: f64| Circle {
-                prm: prm.clone(),
-                cx: 0.0,
-                cy: rt,
-                radius: rt,
-                a0,
-                depth,
-            };
-            let passes: Vec<(Box<dyn Track>, f64)> = vec![
-                (Box::new(lap(a0 - 0.1 / rt, d1)), PASS + 0.2),
-                (Box::new(lap(a0, d2)), PASS),
-            ];
-            Plan { prm, passes }
+            let first = Some(x(2, 0.006)).filter(|&d| d > 0.0);
+            laps_plan(&c, 1e-3, x(1, 2.0), first, x(3, 0.012))
         }
         _ => fresh_plan(1e-3, P_REF, 0.0),
     };

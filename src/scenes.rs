@@ -402,6 +402,25 @@ pub fn beside(cell: f64, depth: f64, offset: f64) -> Mean {
 /// passing (0, 0) heading +x: on fresh rock (`reroll` false), or a second
 /// lap rolling the groove the first lap cut, at its own depth.
 pub fn lap_plan(cell: f64, depth: f64, rt: f64, reroll: bool) -> Plan {
+    laps_plan(
+        &Params::default().cutter,
+        cell,
+        rt,
+        reroll.then_some(depth),
+        depth,
+    )
+}
+
+/// [`lap_plan`] for a disc of `cutter`, the measured lap `depth` deep, after
+/// a first lap `first` deep (`None`: on fresh rock), as a cutterhead's disc
+/// runs its own groove a revolution's penetration deeper.
+pub fn laps_plan(
+    cutter: &CutterParams,
+    cell: f64,
+    rt: f64,
+    first: Option<f64>,
+    depth: f64,
+) -> Plan {
     // a0 = -pi/2 puts the disc at (0, 0) heading +x
     let len = PASS + 0.2;
     let half = 0.5 * len.min(std::f64::consts::PI * rt);
@@ -411,23 +430,16 @@ pub fn lap_plan(cell: f64, depth: f64, rt: f64, reroll: bool) -> Plan {
     } else {
         rt * ang.sin()
     };
-    let prm = face(
+    let mut prm = face(
         cell,
         -reach - 0.3,
         reach + 0.3,
         -0.06,
         0.06 + rt * (1.0 - ang.cos()),
     );
+    prm.cutter = *cutter;
     let a0 = -std::f64::consts::FRAC_PI_2 - (half - 0.1) / rt;
-    let first = Circle {
-        prm: prm.clone(),
-        cx: 0.0,
-        cy: rt,
-        radius: rt,
-        a0: a0 - 0.1 / rt,
-        depth,
-    };
-    let second = Circle {
+    let lap = |a0: f64, depth: f64| Circle {
         prm: prm.clone(),
         cx: 0.0,
         cy: rt,
@@ -436,10 +448,10 @@ pub fn lap_plan(cell: f64, depth: f64, rt: f64, reroll: bool) -> Plan {
         depth,
     };
     let mut passes: Vec<(Box<dyn Track>, f64)> = Vec::new();
-    if reroll {
-        passes.push((Box::new(first), len));
+    if let Some(d) = first {
+        passes.push((Box::new(lap(a0 - 0.1 / rt, d)), len));
     }
-    passes.push((Box::new(second), PASS));
+    passes.push((Box::new(lap(a0, depth)), PASS));
     Plan { prm, passes }
 }
 

@@ -5,7 +5,7 @@
 //!
 //! Safe Rust only, like `instance.rs`.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 use std::ffi::{CStr, CString};
 use std::path::{Path, PathBuf};
 
@@ -88,7 +88,7 @@ pub struct HeadModel {
     drive: Drive,
     vars: Vec<HeadVar>,
     /// (type class, value reference) -> index in `vars`.
-    lookup: HashMap<(Class, u32), usize>,
+    lookup: FxHashMap<(Class, u32), usize>,
     start_values: HeadValues,
     values: HeadValues,
     head: Option<Head>,

@@ -1,6 +1,6 @@
 //! One scene of `kerf::scenes` for an instruction-count profile:
 //! `valgrind --tool=callgrind target/release/examples/scene_cost curved 0.5`
-//! (scenes: `straight`, `tilted DEG`, `curved R`, `reroll R`, `gauge DEG R`,
+//! (scenes: `straight`, `tilted DEG`, `curved R`, `reroll R`, `beside D_MM`, `gauge DEG R`,
 //! `deeper R D1 D2`: a 19 in disc's second lap of an R track, D2 deep, in
 //! the groove of a first lap D1 deep, as a head's face disc runs).
 use kerf::scenes::*;
@@ -10,6 +10,7 @@ fn main() {
     let plan = match a.first().map(String::as_str).unwrap_or("straight") {
         "tilted" => fresh_plan(1e-3, P_REF, x(1, 30.0).to_radians()),
         "curved" => lap_plan(1e-3, P_REF, x(1, 0.5), false),
+        "beside" => beside_plan(1e-3, P_REF, x(1, 4.0) * 1e-3),
         "reroll" => lap_plan(1e-3, P_REF, x(1, 0.5), true),
         "gauge" => gauge_plan(1e-3, P_REF, x(1, -60f64).to_radians(), x(2, 4.83)),
         "deeper" => {

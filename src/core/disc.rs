@@ -608,7 +608,8 @@ fn cut_in_time_order(
 /// count [`sub_steps`] gives it: a disc near the axis moves a fraction of
 /// the gauge's way and takes fewer cuts); the cuts are committed in time
 /// order, discs in layout order at equal times, a fixed order. The cutting
-/// energy takes the trapezoidal rule over the step for each disc. Returns
+/// energy takes the trapezoidal rule over the step for each disc, from the
+/// power reported after its last step (`DiscState::last_power`). Returns
 /// the motions at `t = h`. All or nothing, as [`commit_paths`].
 #[allow(clippy::too_many_arguments)]
 pub fn sweep(

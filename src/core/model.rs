@@ -621,7 +621,10 @@ impl Model {
     /// rock along the whole path (a Co-Simulation step): the path is cut at
     /// sub-steps no longer than `numerics.sweep_step` of travel of any rim
     /// point, so no uncut rock is left however long `h`. The cutting energy
-    /// takes the trapezoidal rule over the step. Returns the end pose.
+    /// takes the trapezoidal rule over the step, from the power reported
+    /// after the last step (`DiscState::last_power`: a start pose a host
+    /// sets a round-off away from the last end is not evaluated again).
+    /// Returns the end pose.
     ///
     /// At the start of the run (nothing cut yet) the start pose is cut first,
     /// as Model Exchange's initial event does: the cutter pressed into the

@@ -482,7 +482,7 @@ impl Model {
     /// skid), which is when the energy bookkeeping has something to add.
     pub fn power(&self, pose: &Pose, twist: &Twist) -> Result<f64> {
         let o = self.evaluate(pose, twist)?;
-        Ok(o.work_on_rock(twist, 1.0))
+        Ok(o.power_into_rock(twist))
     }
 
     /// Cuts at `pose` for a disc moving with `twist` (chips follow the

@@ -472,7 +472,7 @@ impl FmuModel for HeadModel {
         Ok(o.discs
             .iter()
             .zip(&motions)
-            .any(|(d, (_, t))| d.work_on_rock(t, 1.0) != 0.0))
+            .any(|(d, (_, t))| d.power_into_rock(t) != 0.0))
     }
 
     fn advance(&mut self, cx: Ctx, h: f64) -> Result<(), StepError> {

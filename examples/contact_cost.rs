@@ -31,7 +31,7 @@ fn main() {
     let disc = PosedDisc::new(&prm.cutter, &t.pose(0.101));
     let t0 = Instant::now();
     for _ in 0..n {
-        std::hint::black_box(cut(&mut map, &disc, 2e-6, 1.0, None));
+        std::hint::black_box(cut(&mut map, &disc, 2e-6, 1.0, (None, None)));
     }
     let k_us = t0.elapsed().as_secs_f64() * 1e6 / n as f64;
     println!("roll {g}: contact {c_us:.1} us, cut {k_us:.1} us");

@@ -66,7 +66,7 @@ fn the_windowed_cut_lowers_exactly_the_nodes_a_full_scan_lowers() {
                     let pose = Pose::new(x - low.x, y - low.y, 1.0 - low.z - depth, yaw, 0.0, roll);
                     let disc = PosedDisc::new(&c, &pose);
                     let (mut a, mut b) = (face(), face());
-                    let stats = cut(&mut a, &disc, ELASTIC, 1.0, None);
+                    let stats = cut(&mut a, &disc, ELASTIC, 1.0, (None, None));
                     let n = brute_cut(&mut b, &disc, 1.0);
                     assert_eq!(
                         stats.nodes, n,

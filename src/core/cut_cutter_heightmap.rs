@@ -96,6 +96,185 @@ impl Front {
     }
 }
 
+/// What a rolling disc's cut need not visit behind it: a box in plan
+/// about its heading, from `s[0]` to `s[1]` along the heading `u` from the
+/// disc centre `c`, within `half` of the centre plane across it.
+///
+/// Behind its lowest point a rolling disc's surface rises, so the rock its
+/// last cut left there lies below it still, and a cut walked those nodes
+/// (most of a cut's window: the back arc of a 19 in disc 6 mm deep is 54 mm
+/// long, a sweep step 1 mm) only to lower none. [`Back::of`] finds, from the
+/// pose `prev` of the disc's last cut on this map and the pose now, a box
+/// in which that holds by the geometry alone, so that skipping it leaves
+/// the face bit for bit as a whole cut does (`tests/cut_back.rs` holds that
+/// on every path a cutterhead makes).
+///
+/// The argument, for an axle horizontal at both poses (a face disc; tilted
+/// discs cut whole): the solid is convex, so its lower boundary `f'` at
+/// the last pose is a convex function in plan, and the solid now is the
+/// last one moved by a turn `alpha` about the vertical and a shift: the
+/// boundary now at `x` is `f'(x')` (`x'` the point that moved to `x`) plus
+/// the rise `t_z`. Every node the last cut scanned lies no higher than
+/// `f'` plus the elastic layer (a cut only lowers, and so do the cuts of
+/// other discs and chips since), so a node at `x` can fall now only if
+/// `f'(x') + t_z < f'(x)`. By convexity `f'(x') >= f'(x) - grad f'(x) . D`
+/// (`D = x - x'`); with `s'` the distance along the heading from the last
+/// centre (negative behind it), `Q = sqrt(rho^2 - s'^2)` and `S` the
+/// largest slope of the disc's section, `grad f' . D = (s' D_u - rho
+/// rho' D_l) / Q <= (-|s'| D_u + R S |D_l|) / Q`, so nodes where
+/// `|s'| D_u >= R S |D_l| + R max(-t_z, 0)` keep their height. `D_u` (the
+/// travel along the heading) and `|D_l|` (across it: crabbing, and `alpha
+/// s` from the turn) are bounded over the disc, which gives the distance
+/// `b` behind the centre from which that holds; across, the box keeps
+/// clear of the last cut's side edges (`half`), and it lies where the last
+/// cut reached (inside its [`Front`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Back {
+    c: (f64, f64),
+    u: (f64, f64),
+    s: [f64; 2],
+    half: f64,
+}
+
+impl Back {
+    /// The box for a cut of `disc` after a cut of the same disc at `prev`
+    /// that reached no further than `prev_front` ahead, both with a full
+    /// plastic fraction and the same elastic layer (the caller's to check);
+    /// `None` where the argument does not hold: an axle not horizontal, a
+    /// turn of more than 2.6 deg or too tight for the section's slope (the
+    /// back swinging out faster than it rises), a move that is mostly not
+    /// along the heading, or a box that would reach past `prev_front`.
+    pub fn of(prev: &PosedDisc, prev_front: Option<Front>, disc: &PosedDisc) -> Option<Back> {
+        let same = prev.radius == disc.radius
+            && prev.half_width == disc.half_width
+            && prev.tip_radius == disc.tip_radius
+            && prev.hub_half_width == disc.hub_half_width
+            && prev.flank_cot == disc.flank_cot;
+        let (a0, a1) = (prev.rot.column(1), disc.rot.column(1));
+        if !same || a0.z.abs() > 1e-12 || a1.z.abs() > 1e-12 {
+            return None;
+        }
+        let (r, h, rt, hw) = (
+            disc.radius,
+            disc.half_width,
+            disc.tip_radius,
+            disc.hub_half_width,
+        );
+        if h >= rt {
+            return None;
+        }
+        // largest slope of the section's radius across the axle
+        let slope = (h / (rt * rt - h * h).sqrt()).max(if disc.has_flanks() {
+            disc.flank_cot
+        } else {
+            0.0
+        });
+        let (n0, n1) = (a0.x.hypot(a0.y), a1.x.hypot(a1.y));
+        let (l0, l1) = ((a0.x / n0, a0.y / n0), (a1.x / n1, a1.y / n1));
+        // the turn from the last axle to this one (an axle turned end for
+        // end is the same solid)
+        let (mut cos_a, mut sin_a) = (l0.0 * l1.0 + l0.1 * l1.1, l0.0 * l1.1 - l0.1 * l1.0);
+        if cos_a < 0.0 {
+            (cos_a, sin_a) = (-cos_a, -sin_a);
+        }
+        if cos_a.is_nan() || cos_a < 0.999 {
+            return None;
+        }
+        // the heading, the way the centre moved
+        let (dx, dy) = (disc.centre.x - prev.centre.x, disc.centre.y - prev.centre.y);
+        let t_z = disc.centre.z - prev.centre.z;
+        let mut u = (l1.1, -l1.0);
+        let mut d_u = dx * u.0 + dy * u.1;
+        if d_u < 0.0 {
+            u = (-u.0, -u.1);
+            d_u = -d_u;
+        }
+        let d_l = (dx * -u.1 + dy * u.0).abs();
+        let dn = dx.hypot(dy);
+        // |alpha| (asin x <= 1.001 x for cos >= 0.999, rounded up)
+        let aa = 1.01 * sin_a.abs();
+        let c1 = 1.0 - cos_a;
+        // how far a point of the solid lies from its centre in plan
+        let reach = r.hypot(hw);
+        let d_max = dn + (c1 + aa) * reach;
+        // least D_u, and |D_l| <= l0 + aa |s|, over the solid (in the last
+        // pose's frame: its axes are turned by alpha from these)
+        let du_min = d_u - c1 * reach - aa * hw - aa * d_max;
+        let l_0 = d_l + c1 * hw + aa * d_max;
+        // |s'| >= |s| - d_u - e
+        let e = aa * (reach + dn);
+        let k = du_min - r * slope * aa;
+        if !(du_min > 0.0 && k >= 0.25 * du_min) {
+            return None;
+        }
+        let b = (r * slope * l_0 + r * (-t_z).max(0.0) + (d_u + e) * du_min) / k;
+        let b = 1.05 * b + 1e-9;
+        // across: the last cut's solid covers the box's width; along: its
+        // section reaches the box's far end
+        let half = hw - (d_l + aa * (reach + dn)) - 1e-9;
+        let far = disc.rho_full(hw) + d_u - e - 1e-9;
+        if !(half > 0.0 && far > b) {
+            return None;
+        }
+        let back = Back {
+            c: (disc.centre.x, disc.centre.y),
+            u,
+            s: [-far, -b],
+            half,
+        };
+        // the last cut scanned the whole box: it lies behind its front
+        if let Some(f) = prev_front {
+            let inside = back
+                .corners()
+                .iter()
+                .all(|p| p.0 * f.dir.0 + p.1 * f.dir.1 <= f.limit);
+            if !inside {
+                return None;
+            }
+        }
+        Some(back)
+    }
+
+    /// The box's corners in plan.
+    fn corners(&self) -> [(f64, f64); 4] {
+        let (u, l) = (self.u, (-self.u.1, self.u.0));
+        let at = |s: f64, d: f64| (self.c.0 + s * u.0 + d * l.0, self.c.1 + s * u.1 + d * l.1);
+        [
+            at(self.s[0], -self.half),
+            at(self.s[0], self.half),
+            at(self.s[1], -self.half),
+            at(self.s[1], self.half),
+        ]
+    }
+
+    /// The nodes of row `j` inside the box, within `i0..=i1`, if any.
+    fn gap(&self, g: &Grid, j: usize, i0: usize, i1: usize) -> Option<(usize, usize)> {
+        let y = g.y_min + g.dy * j as f64 - self.c.1;
+        let (u, l) = (self.u, (-self.u.1, self.u.0));
+        // x - c.x in [lo, hi]
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for (k, b, a_lo, a_hi) in [
+            (u.0, y * u.1, self.s[0], self.s[1]),
+            (l.0, y * l.1, -self.half, self.half),
+        ] {
+            // a_lo <= k x + b <= a_hi
+            if k.abs() > 1e-12 {
+                let (p, q) = ((a_lo - b) / k, (a_hi - b) / k);
+                lo = lo.max(p.min(q));
+                hi = hi.min(p.max(q));
+            } else if b < a_lo || b > a_hi {
+                return None;
+            }
+        }
+        // rounding: a node on the edge is walked
+        let pad = 1e-9;
+        let x0 = g.x_min - self.c.0;
+        let k0 = ((lo + pad - x0) / g.dx).ceil().max(i0 as f64);
+        let k1 = ((hi - pad - x0) / g.dx).floor().min(i1 as f64);
+        (k0 <= k1).then_some((k0 as usize, k1 as usize))
+    }
+}
+
 /// The nodes a cut at this pose may lower: rows `j0..=j1`, and in each row
 /// the nodes between two bounds on x.
 ///
@@ -114,6 +293,8 @@ pub struct Window {
     /// Each row's node range (`rows[j - j0]`, `None`: none), found once:
     /// the tiles a cut writes and the cut itself read the same rows.
     rows: Vec<Option<(usize, usize)>>,
+    /// The part of each row's range a [`Back`] box leaves out, if any.
+    gaps: Vec<Option<(usize, usize)>>,
 }
 
 /// The bounds a [`Window`]'s rows are clipped to: the world box
@@ -132,7 +313,7 @@ impl Window {
     pub fn tiles(&self, map: &HeightMap) -> Option<TileRect> {
         let mut b: Option<[usize; 4]> = None;
         for j in self.j0..=self.j1 {
-            if let Some((i0, i1)) = self.row(j) {
+            for (i0, i1) in self.runs(j) {
                 let v = b.get_or_insert([i0, i1, j, j]);
                 *v = [v[0].min(i0), v[1].max(i1), v[2].min(j), v[3].max(j)];
             }
@@ -140,9 +321,32 @@ impl Window {
         b.map(|[i0, i1, j0, j1]| map.tile_rect(i0, i1, j0, j1))
     }
 
-    /// The node range of row `j`, or `None`.
+    /// The node range of row `j` (gap included), or `None`.
     fn row(&self, j: usize) -> Option<(usize, usize)> {
         self.rows.get(j.wrapping_sub(self.j0)).copied().flatten()
+    }
+
+    /// How many nodes the cut walks.
+    pub fn nodes(&self) -> usize {
+        (self.j0..=self.j1)
+            .flat_map(|j| self.runs(j))
+            .map(|(i0, i1)| i1 - i0 + 1)
+            .sum()
+    }
+
+    /// The node ranges of row `j` the cut walks: its range less its gap
+    /// (none, one or two runs).
+    fn runs(&self, j: usize) -> impl Iterator<Item = (usize, usize)> {
+        let row = self.row(j);
+        let gap = self.gaps.get(j.wrapping_sub(self.j0)).copied().flatten();
+        let [a, b] = match (row, gap) {
+            (Some((i0, i1)), Some((g0, g1))) => [
+                (g0 > i0).then(|| (i0, g0 - 1)),
+                (g1 < i1).then(|| (g1 + 1, i1)),
+            ],
+            (row, _) => [row, None],
+        };
+        a.into_iter().chain(b)
     }
 }
 
@@ -183,7 +387,12 @@ impl Bounds {
 /// reaching no further than `front` ahead.
 /// On a map a cut at another place has lowered since, it is still a window
 /// of this cut: lower rock only shrinks the part of the disc below it.
-pub fn node_window(map: &HeightMap, disc: &PosedDisc, front: Option<Front>) -> Option<Window> {
+pub fn node_window(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    front: Option<Front>,
+    back: Option<Back>,
+) -> Option<Window> {
     let g = map.grid();
     let z_top = map.highest_within(disc.centre.x, disc.centre.y, disc.radius)?;
     let bb = disc.footprint_below(z_top)?;
@@ -207,18 +416,20 @@ pub fn node_window(map: &HeightMap, disc: &PosedDisc, front: Option<Front>) -> O
         uv,
         front,
     };
-    Some(Window {
-        j0,
-        j1,
-        rows: (j0..=j1).map(|j| bounds.row(g, j)).collect(),
-    })
+    let rows: Vec<Option<(usize, usize)>> = (j0..=j1).map(|j| bounds.row(g, j)).collect();
+    let gaps = match back {
+        Some(b) => (j0..=j1)
+            .zip(&rows)
+            .map(|(j, r)| r.and_then(|(i0, i1)| b.gap(g, j, i0, i1)))
+            .collect(),
+        None => Vec::new(),
+    };
+    Some(Window { j0, j1, rows, gaps })
 }
 
 /// How many nodes [`cut`] or [`would_cut`] at this pose would scan at most.
 pub fn window_nodes(map: &HeightMap, disc: &PosedDisc) -> usize {
-    node_window(map, disc, None).map_or(0, |w| {
-        w.rows.iter().flatten().map(|(i0, i1)| i1 - i0 + 1).sum()
-    })
+    node_window(map, disc, None, None).map_or(0, |w| w.nodes())
 }
 
 /// The nodes a cut walks, a row at a time: `lower_row(j, i0, i1, f)` runs
@@ -313,88 +524,98 @@ fn sweep_nodes<M: Nodes>(
         Some(z - drop)
     };
     for j in w.j0..=w.j1 {
-        let Some((i0, i1)) = w.row(j) else {
+        let Some((r0, r1)) = w.row(j) else {
             continue;
         };
         // a row that keeps its axle coordinate (heading along a grid axis;
         // rounding of a spinning pose may leave it drifting by less than
         // 1e-15 m, nothing to the heights) lies in one vertical plane,
         // whose lowest point of the solid bounds the cut
-        let flat_row = (step.y * (i1 - i0) as f64).abs() <= 1e-15;
-        let (x0, y) = g.node_xy(i0, j);
-        let mut a =
-            rt * nalgebra::Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);
-        let stats = &mut stats;
-        let stopped = if horizontal {
-            // Axle horizontal: the vertical line through a node stays in the
-            // plane y_local = q.y and meets the rim circle of radius
-            // rho(q.y) there. With b = q.d (d is a unit vector in the x-z
-            // plane) and w the offset across d in that plane, the lower
-            // boundary is -b - sqrt(rho^2 - w^2). q.y, b and w are affine
-            // along the row: node k's are start + k * step.
-            let (b0, db) = (a.x * d.x + a.z * d.z, step.x * d.x + step.z * d.z);
-            let (w0, dw) = (a.x * d.z - a.z * d.x, step.x * d.z - step.z * d.x);
-            let (y0, dy) = (a.y, step.y);
-            // (the plane's solid is the rim circle at y_local)
-            let floor = if flat_row && y0.abs() <= h {
-                disc.centre.z - disc.rho_full(y0) + elastic_depth + CUT_TOLERANCE
+        let flat_row = (step.y * (r1 - r0) as f64).abs() <= 1e-15;
+        let (x0, y) = g.node_xy(r0, j);
+        // (each node's local coordinates count from the row's first node,
+        // whichever run of the row it lies in: a gap changes no height)
+        let a0 = rt * nalgebra::Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);
+        for (i0, i1) in w.runs(j) {
+            let skipped = i0 - r0;
+            let stats = &mut stats;
+            let stopped = if horizontal {
+                // Axle horizontal: the vertical line through a node stays in the
+                // plane y_local = q.y and meets the rim circle of radius
+                // rho(q.y) there. With b = q.d (d is a unit vector in the x-z
+                // plane) and w the offset across d in that plane, the lower
+                // boundary is -b - sqrt(rho^2 - w^2). q.y, b and w are affine
+                // along the row: node k's are start + k * step.
+                let a = a0;
+                let (b0, db) = (a.x * d.x + a.z * d.z, step.x * d.x + step.z * d.z);
+                let (w0, dw) = (a.x * d.z - a.z * d.x, step.x * d.z - step.z * d.x);
+                let (y0, dy) = (a.y, step.y);
+                // (the plane's solid is the rim circle at y_local)
+                let floor = if flat_row && y0.abs() <= h {
+                    disc.centre.z - disc.rho_full(y0) + elastic_depth + CUT_TOLERANCE
+                } else {
+                    f64::NEG_INFINITY
+                };
+                let mut k = skipped as f64 - 1.0;
+                map.lower_row(j, i0, i1, |z| {
+                    k += 1.0;
+                    if z <= floor {
+                        return None;
+                    }
+                    let qy = y0 + k * dy;
+                    if qy.abs() > h {
+                        return None;
+                    }
+                    let rho = disc.rho_full(qy);
+                    let w = w0 + k * dw;
+                    let disc2 = rho * rho - w * w;
+                    if disc2 < 0.0 {
+                        return None;
+                    }
+                    lower(stats, z, -(b0 + k * db) - disc2.sqrt())
+                })
             } else {
-                f64::NEG_INFINITY
+                let mut a = a0;
+                for _ in 0..skipped {
+                    a += step;
+                }
+                // (a plane that misses the solid: nothing to cut in the row)
+                let floor = if flat_row && !disc.has_flanks() {
+                    disc.row_floor(&a0, &d, &step)
+                        .map_or(f64::INFINITY, |t| t + elastic_depth + CUT_TOLERANCE)
+                } else {
+                    f64::NEG_INFINITY
+                };
+                map.lower_row(j, i0, i1, |z| {
+                    // local coordinates are affine along a row
+                    let q = a;
+                    a += step;
+                    if z <= floor {
+                        return None;
+                    }
+                    let cap = z - elastic_depth - CUT_TOLERANCE;
+                    let z_low = disc.column_lower_end(&q, &d, cap)?.0;
+                    lower(stats, z, z_low)
+                })
             };
-            let mut k = -1.0f64;
-            map.lower_row(j, i0, i1, |z| {
-                k += 1.0;
-                if z <= floor {
-                    return None;
-                }
-                let qy = y0 + k * dy;
-                if qy.abs() > h {
-                    return None;
-                }
-                let rho = disc.rho_full(qy);
-                let w = w0 + k * dw;
-                let disc2 = rho * rho - w * w;
-                if disc2 < 0.0 {
-                    return None;
-                }
-                lower(stats, z, -(b0 + k * db) - disc2.sqrt())
-            })
-        } else {
-            // (a plane that misses the solid: nothing to cut in the row)
-            let floor = if flat_row && !disc.has_flanks() {
-                disc.row_floor(&a, &d, &step)
-                    .map_or(f64::INFINITY, |t| t + elastic_depth + CUT_TOLERANCE)
-            } else {
-                f64::NEG_INFINITY
-            };
-            map.lower_row(j, i0, i1, |z| {
-                // local coordinates are affine along a row
-                let q = a;
-                a += step;
-                if z <= floor {
-                    return None;
-                }
-                let cap = z - elastic_depth - CUT_TOLERANCE;
-                let z_low = disc.column_lower_end(&q, &d, cap)?.0;
-                lower(stats, z, z_low)
-            })
-        };
-        if stopped {
-            return (*stats, true);
+            if stopped {
+                return (*stats, true);
+            }
         }
     }
     (stats, stats.nodes > 0)
 }
 
-/// Cuts the rock at the disc's pose, no further than `front` ahead.
+/// Cuts the rock at the disc's pose, no further than `front` ahead and
+/// leaving out the `back` box.
 pub fn cut(
     map: &mut HeightMap,
     disc: &PosedDisc,
     elastic_depth: f64,
     plastic_fraction: f64,
-    front: Option<Front>,
+    (front, back): (Option<Front>, Option<Back>),
 ) -> CutStats {
-    match node_window(map, disc, front) {
+    match node_window(map, disc, front, back) {
         Some(w) => sweep_nodes(map, &w, disc, elastic_depth, Some(plastic_fraction)).0,
         None => CutStats::default(),
     }
@@ -415,6 +636,6 @@ pub fn cut_patch(
 
 /// Would [`cut`] at this pose lower any node?
 pub fn would_cut(map: &HeightMap, disc: &PosedDisc, elastic_depth: f64) -> bool {
-    node_window(map, disc, None)
+    node_window(map, disc, None, None)
         .is_some_and(|w| sweep_nodes(&mut ReadOnly(map), &w, disc, elastic_depth, None).1)
 }

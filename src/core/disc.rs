@@ -21,7 +21,7 @@ use super::contact_cutter_heightmap::{contact, Contact};
 use super::contact_thesis::contact_thesis;
 use super::csm::CsmLaw;
 use super::cut_cutter_heightmap::{
-    cut, cut_patch, node_window, would_cut, CutStats, Front, Window,
+    cut, cut_patch, node_window, would_cut, Back, CutStats, Front, Window,
 };
 use super::cutter::PosedDisc;
 use super::error::Result;
@@ -48,6 +48,21 @@ pub struct Disc {
     cache: Kept,
     /// The disc turns freely on its bearing ([`Disc::turning_freely`]).
     free: bool,
+    /// This disc's last cut, while the map it was made on has only lost
+    /// rock since: what the next cut may leave out behind ([`Back`]).
+    /// Not state: without it a cut walks its whole window, to the same face.
+    last_cut: Cell<Option<CutRecord>>,
+}
+
+/// A cut a disc made: on which map history ([`HeightMap::lineage`]), at
+/// which pose, how far ahead, with which elastic layer and plastic fraction.
+#[derive(Debug, Clone, Copy)]
+struct CutRecord {
+    lineage: u64,
+    disc: PosedDisc,
+    front: Option<Front>,
+    elastic: f64,
+    fraction: f64,
 }
 
 impl Clone for Disc {
@@ -58,6 +73,7 @@ impl Clone for Disc {
             relieved: self.relieved,
             cache: Cell::new(None),
             free: self.free,
+            last_cut: Cell::new(None),
         }
     }
 }
@@ -118,6 +134,7 @@ impl Disc {
             relieved: CsmLaw::scaled(cutter, csm, p_reg, pressure_scale),
             cache: Cell::new(None),
             free: false,
+            last_cut: Cell::new(None),
         }
     }
 
@@ -239,6 +256,33 @@ impl Disc {
         self.cache.set(None);
     }
 
+    /// What a cut of `disc` on `map` may leave out behind ([`Back`]): from
+    /// this disc's last cut, if it was made on this map's history with the
+    /// same elastic layer, and both plastic fractions are 1.
+    fn cut_back(&self, map: &HeightMap, disc: &PosedDisc, params: &Params) -> Option<Back> {
+        let r = self.last_cut.get()?;
+        let n = &params.numerics;
+        let same = r.lineage == map.lineage()
+            && r.elastic == n.elastic_depth
+            && r.fraction == 1.0
+            && params.rock.plastic_fraction == 1.0;
+        if n.cut_behind || !same {
+            return None;
+        }
+        Back::of(&r.disc, r.front, disc)
+    }
+
+    /// Keeps the cut just made on `map` for the next one's [`Back`].
+    fn record_cut(&self, map: &HeightMap, disc: PosedDisc, front: Option<Front>, params: &Params) {
+        self.last_cut.set(Some(CutRecord {
+            lineage: map.lineage(),
+            disc,
+            front,
+            elastic: params.numerics.elastic_depth,
+            fraction: params.rock.plastic_fraction,
+        }));
+    }
+
     /// Would a cut at `pose` change the face?
     pub fn would_cut(&self, map: &HeightMap, pose: &Pose, params: &Params) -> bool {
         would_cut(map, &self.posed(pose), params.numerics.elastic_depth)
@@ -257,13 +301,15 @@ impl Disc {
     ) -> bool {
         let disc = self.posed(pose);
         let front = cut_front(&face.map, &disc, twist, params);
+        let back = self.cut_back(&face.map, &disc, params);
         let stats = cut(
             &mut face.map,
             &disc,
             params.numerics.elastic_depth,
             params.rock.plastic_fraction,
-            front,
+            (front, back),
         );
+        self.record_cut(&face.map, disc, front, params);
         face.excavated_volume += stats.volume;
         let chips = chip_at(face, state, &disc, twist, stats.nodes > 0, params);
         if stats.nodes > 0 || chips {
@@ -702,12 +748,19 @@ fn cut_together(
         .map(|&i| discs[i].posed(&motions[i].0))
         .collect();
     let map = &face.map;
-    let windows: Vec<Option<(Window, TileRect)>> = posed
-        .par_iter()
-        .zip(group.par_iter())
+    let bounds: Vec<(Option<Front>, Option<Back>)> = posed
+        .iter()
+        .zip(group)
         .map(|(d, &i)| {
             let front = cut_front(map, d, &motions[i].1, params);
-            node_window(map, d, front).and_then(|w| w.tiles(map).map(|r| (w, r)))
+            (front, discs[i].cut_back(map, d, params))
+        })
+        .collect();
+    let windows: Vec<Option<(Window, TileRect)>> = posed
+        .par_iter()
+        .zip(bounds.par_iter())
+        .map(|(d, &(front, back))| {
+            node_window(map, d, front, back).and_then(|w| w.tiles(map).map(|r| (w, r)))
         })
         .collect();
     let mut wave = vec![0usize; group.len()];
@@ -747,7 +800,8 @@ fn cut_together(
         }
     }
     let mut changed = false;
-    for (&i, st) in group.iter().zip(&stats) {
+    for (a, (&i, st)) in group.iter().zip(&stats).enumerate() {
+        discs[i].record_cut(&face.map, posed[a], bounds[a].0, params);
         face.excavated_volume += st.volume;
         if st.nodes > 0 {
             discs[i].forget();

@@ -647,6 +647,7 @@ impl Head {
                     }
                 }
             });
+        map.new_lineage();
         self.discs.iter().for_each(Disc::forget);
         Ok(())
     }

@@ -250,7 +250,9 @@ impl Patch<'_> {
         }
     }
 
-    /// [`HeightMap::set_node`] inside the patch.
+    /// [`HeightMap::set_node`] inside the patch. A node set may rise: the
+    /// caller gives the map a new history when the patches are done
+    /// ([`HeightMap::new_lineage`]).
     pub fn set_node(&mut self, i: usize, j: usize, z: f64) {
         let (r, c, k) = self.slot(i, j);
         Tile::for_writing(&mut self.rows[r][c], self.z0).0.set(k, z);
@@ -407,6 +409,35 @@ pub struct HeightMap {
     /// While a change may still be rolled back: what it wrote over. Kept
     /// between changes (empty) so that its buffers are reused.
     undo: Undo,
+    /// Which history of cuts this map holds ([`Lineage`]).
+    lineage: Lineage,
+}
+
+/// A map's history, for what a disc may assume of the rock it cut last:
+/// kept while nodes only fall (cuts, chips), new whenever one may rise (a
+/// node set, a tile loaded, a change rolled back) and in every clone (a
+/// state restored is another history). Maps compare equal whatever their
+/// lineages.
+#[derive(Debug)]
+struct Lineage(u64);
+
+impl Lineage {
+    fn fresh() -> Self {
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+        Self(NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
+    }
+}
+
+impl Clone for Lineage {
+    fn clone(&self) -> Self {
+        Self::fresh()
+    }
+}
+
+impl PartialEq for Lineage {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -450,7 +481,20 @@ impl HeightMap {
             #[allow(clippy::rc_clone_in_vec_init)]
             rows: vec![Arc::from(vec![None; tiles_x]); tiles_y],
             undo: Undo::default(),
+            lineage: Lineage::fresh(),
         }
+    }
+
+    /// This map's history of cuts: the same number while its nodes have
+    /// only fallen since, another after anything that may raise one, and
+    /// in a clone.
+    pub fn lineage(&self) -> u64 {
+        self.lineage.0
+    }
+
+    /// Starts a new history: nodes may have risen (set through patches).
+    pub fn new_lineage(&mut self) {
+        self.lineage = Lineage::fresh();
     }
 
     pub fn grid(&self) -> &Grid {
@@ -534,6 +578,7 @@ impl HeightMap {
     /// Sets node `(i, j)`, allocating its tile on first write (a surface
     /// being loaded: the node does not count as cut).
     pub fn set_node(&mut self, i: usize, j: usize, z: f64) {
+        self.lineage = Lineage::fresh();
         let (tj, ti, k) = self.tile_index(i, j);
         self.tile_mut(tj, ti, k).set(k, z);
     }
@@ -881,6 +926,7 @@ impl HeightMap {
     /// Puts back every tile written since [`HeightMap::begin_undo`] and
     /// stops recording.
     pub fn rollback(&mut self) {
+        self.lineage = Lineage::fresh();
         if self.undo.open {
             let u = std::mem::take(&mut self.undo);
             let tx = self.tiles_x;
@@ -921,6 +967,7 @@ impl HeightMap {
         dm.z.copy_from_slice(z);
         dm.cut.copy_from_slice(cut);
         let z_max = d.z.iter().copied().fold(bound, f64::max);
+        self.lineage = Lineage::fresh();
         *self.slot_mut(k / self.tiles_x, k % self.tiles_x) = Some(Tile { d, z_max });
         Some(())
     }

@@ -144,6 +144,12 @@ pub struct Numerics {
     /// see `cut_cutter_heightmap::Front`). Not an FMU parameter: a switch
     /// for tests and reports that compare the two.
     pub cut_ahead: bool,
+    /// Walk the whole window behind the disc at every cut (`false`, the
+    /// default: a cut leaves out the box behind a rolling disc where the
+    /// disc's last cut already lies below it, see
+    /// `cut_cutter_heightmap::Back`; the face is the same bit for bit).
+    /// Not an FMU parameter: a switch for the tests that hold the two equal.
+    pub cut_behind: bool,
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -222,6 +228,7 @@ impl Default for Numerics {
             sweep_step: 1.0e-3,
             direction: DirectionRule::Kerf,
             cut_ahead: false,
+            cut_behind: false,
         }
     }
 }

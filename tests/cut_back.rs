@@ -192,6 +192,26 @@ fn straight_sloped_crabbing_and_backward_passes_cut_the_same_face() {
             ..line(p.clone())
         },
     );
+    for (roll, crab, slope) in [
+        (45.0f64, 0.0f64, -0.05),
+        (-45.0, 0.0, 0.05),
+        (30.0, 5.0, 0.0),
+        (-30.0, 5.0, 0.0),
+    ] {
+        check(
+            &format!("tilted {roll} deg, crabbing {crab} deg, slope {slope}"),
+            &p,
+            0.3,
+            1e-3,
+            &Line {
+                roll: roll.to_radians(),
+                crab: crab.to_radians(),
+                d0: 6e-3,
+                slope,
+                ..line(p.clone())
+            },
+        );
+    }
 }
 
 #[test]
@@ -222,6 +242,30 @@ fn curved_tracks_from_the_centre_to_the_gauge_cut_the_same_face() {
                 },
             );
         }
+    }
+    // tilted discs turning either way (a lower face that moves into the
+    // rock it faces gets no box)
+    for (roll, radius) in [
+        (60.0f64, 4.83),
+        (-30.0, 0.5),
+        (30.0, 0.5),
+        (10.0, 1.0),
+        (-10.0, 1.0),
+    ] {
+        check(
+            &format!("tilted {roll} deg, {radius} m track"),
+            &p,
+            0.3,
+            1e-3,
+            &TiltedArc {
+                prm: p.clone(),
+                yaw: 30f64.to_radians(),
+                roll: roll.to_radians(),
+                depth: 6e-3,
+                radius,
+                speed: 1.0,
+            },
+        );
     }
     check(
         "gauge 60 deg, 4.83 m track",
@@ -391,7 +435,8 @@ fn the_box_leaves_out_most_of_a_rolling_discs_window() {
         let b = Back::of(&posed(&c.pose(0.1)), None, &posed(&c.pose(0.101)));
         assert_eq!(b.is_some(), some, "{radius} m track");
     }
-    // tilted, and a jump sideways
+    // a tilted disc: none (its lower face and footprint need more than the
+    // upright argument; a box for them was tried, see docs/head.md)
     let tilted = Line {
         roll: 10f64.to_radians(),
         ..line(p.clone())

@@ -557,7 +557,7 @@ fn check_sub_steps(counts: &[usize], params: &Params, what: &str, span: f64) -> 
 /// `counts[i]` times `k / counts[i]` (`k = 1..=counts[i]`); each entry is
 /// `(k, n, discs)`, the discs that cut at time `k / n` in layout order
 /// (exact: `k1 / n1 < k2 / n2 <=> k1 n2 < k2 n1`). A fixed order.
-fn time_groups(counts: &[usize]) -> Vec<(usize, usize, Vec<usize>)> {
+pub(crate) fn time_groups(counts: &[usize]) -> Vec<(usize, usize, Vec<usize>)> {
     let mut cuts: Vec<(usize, usize, usize)> = counts
         .iter()
         .enumerate()
@@ -673,6 +673,25 @@ pub fn sweep(
     let at = |k: usize, n: usize| path(h * k as f64 / n as f64);
     check_call(&face.map, discs, &groups, at, "the step", h)?;
     // nothing fails from here on: the step is all or nothing
+    sweep_checked(face, discs, states, params, start, h, &groups, path)
+}
+
+/// [`sweep`] after its checks, at the cut times `groups` ([`time_groups`]
+/// of the discs' sub-step counts): what kerf.fmu's Co-Simulation step
+/// (`Model::advance`, which checks its one disc's path with its own words)
+/// and a head's both run. `path` fails nowhere the checks passed.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn sweep_checked(
+    face: &mut Face,
+    discs: &mut [Disc],
+    states: &mut [DiscState],
+    params: &Params,
+    start: &[(Pose, Twist)],
+    h: f64,
+    groups: &[(usize, usize, Vec<usize>)],
+    path: impl Fn(f64) -> Result<Vec<(Pose, Twist)>>,
+) -> Result<Vec<(Pose, Twist)>> {
+    let at = |k: usize, n: usize| path(h * k as f64 / n as f64);
     // at the start of the run (nothing cut yet) a disc's start pose is cut
     // first, as Model Exchange's initial event does (kerf.fmu's rule)
     let first: Vec<bool> = states.iter().map(|s| s.last_cut.is_none()).collect();
@@ -709,7 +728,7 @@ pub fn sweep(
             }
         }
     }
-    let (_, end) = cut_in_time_order(face, discs, states, params, &groups, at)?;
+    let (_, end) = cut_in_time_order(face, discs, states, params, groups, at)?;
     // the last time is k / n = 1 for every disc: `end` holds the motions at h
     discs.iter().for_each(Disc::forget);
     let o1 = evaluate_all(discs, states, &face.map, &end, params);

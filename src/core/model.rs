@@ -7,7 +7,7 @@ use super::contact_cutter_heightmap::Contact;
 use super::csm::CsmLaw;
 use super::cut_cutter_heightmap::window_nodes;
 use super::cutter::PosedDisc;
-use super::disc::{chip_max_step, energy_over, Disc, DiscState};
+use super::disc::{energy_over, sweep_checked, time_groups, Disc, DiscState};
 use super::error::{KerfError, Result};
 use super::face::{self, blob, Face};
 use super::heightmap::HeightMap;
@@ -638,39 +638,22 @@ impl Model {
         let along = |k: usize| advance_pose(start, twist, h * k as f64 / n as f64);
         // the whole path is checked before anything changes
         self.check_visits((1..=n).map(along), "the step", h)?;
+        // the step is a head's sweep of its one disc (`disc::sweep`)
+        let groups = time_groups(&[n]);
+        let path = |t: f64| Ok(vec![(advance_pose(start, twist, t), *twist)]);
         self.transaction(|m| {
-            // the trapezoid starts from the power after the last step, or at
-            // the start of the run (nothing cut yet) from the power at the
-            // start pose, cut first as Model Exchange's initial event does
-            let p0 = if m.state.disc.last_cut.is_none() {
-                m.cut_at(start, twist);
-                m.state.disc.last_cut = Some(*start);
-                m.evaluate(start, twist)?.power_into_rock(twist)
-            } else {
-                m.state.disc.last_power
-            };
-            if m.params.chipping.enabled {
-                // a path that does not continue the last one starts here: chip
-                // boundaries count on from this pose, not from the first sub-step
-                let low = m.disc(start).lowest_point();
-                let max_step = chip_max_step(&m.state.face.map, &m.params);
-                let c = &mut m.state.disc.chips;
-                if c.last_low
-                    .is_none_or(|p| (low.x - p[0]).hypot(low.y - p[1]) > max_step)
-                {
-                    c.last_low = Some(low.into());
-                }
-            }
-            let mut end = *start;
-            for k in 1..=n {
-                end = along(k);
-                m.cut_at(&end, twist);
-            }
-            let p1 = m.evaluate(&end, twist)?.power_into_rock(twist);
-            m.state.face.cutting_energy += energy_over(Some(p0), p1, h);
-            m.state.disc.last_cut = Some(end);
-            m.state.disc.last_power = p1;
-            Ok(end)
+            let s = &mut m.state;
+            let end = sweep_checked(
+                &mut s.face,
+                std::slice::from_mut(&mut m.disc),
+                std::slice::from_mut(&mut s.disc),
+                &m.params,
+                &[(*start, *twist)],
+                h,
+                &groups,
+                path,
+            )?;
+            Ok(end[0].0)
         })
     }
 

@@ -421,22 +421,62 @@ pub fn evaluate_all(
 }
 
 /// A straight path from a disc's last cut: its pose and both orientations.
-type Path = (Pose, UnitQuaternion<f64>, UnitQuaternion<f64>);
+pub(crate) type Path = (Pose, UnitQuaternion<f64>, UnitQuaternion<f64>);
+
+/// The path a Model Exchange commit cuts along, from the disc's last cut
+/// `prev` to `pose`: `None` (only `pose` is cut) before the first cut, when
+/// the disc has not moved, or when the move is a jump no step can make
+/// (longer than the disc radius and than twice the travel the velocity
+/// input explains over `dt`).
+pub(crate) fn path_since(
+    prev: Option<Pose>,
+    (pose, twist): (&Pose, &Twist),
+    dt: f64,
+    radius: f64,
+) -> Option<Path> {
+    let prev = prev?;
+    let jump = (pose.position - prev.position).norm();
+    let explained = jump <= 2.0 * twist.velocity.norm() * dt + radius;
+    (explained && prev != *pose).then(|| {
+        (
+            prev,
+            UnitQuaternion::from_rotation_matrix(&prev.rotation()),
+            UnitQuaternion::from_rotation_matrix(&pose.rotation()),
+        )
+    })
+}
+
+/// Rim travel along `path` to `pose` ([`rim_travel_between`]).
+pub(crate) fn path_travel((prev, q0, q1): &Path, pose: &Pose, radius: f64) -> f64 {
+    rim_travel_between(&(pose.position - prev.position), q0, q1, radius)
+}
+
+/// The pose `k / n` of the way along `path` to `pose` (positions linear,
+/// orientation by slerp); `pose` itself at the end or without a path.
+pub(crate) fn along_path(path: &Option<Path>, pose: &Pose, k: usize, n: usize) -> Pose {
+    match path {
+        Some((prev, q0, q1)) if k < n => {
+            let t = k as f64 / n as f64;
+            let q = q0.slerp(q1, t);
+            let p = prev.position + (pose.position - prev.position) * t;
+            Pose::from_rotation(p, &q.to_rotation_matrix())
+        }
+        _ => *pose,
+    }
+}
 
 /// Cuts the face at the motions' poses (a Model Exchange event): `dt` is the
 /// time since the previous commit, for the energy bookkeeping. Each disc's
-/// cut follows the path from its previous cut, straight (positions linear,
-/// orientation by slerp), in sub-steps of at most `numerics.sweep_step` of
-/// rim travel, when the move is one a step can make: shorter than the disc
-/// radius, or explained by the velocity inputs. A longer jump (a host that
-/// moves the disc to start a new pass) is not a path: only the new pose is
-/// cut. All discs advance sub-step by sub-step, cutting in their order.
-/// Returns whether the face changed. The motions must have been validated.
-/// All or nothing: every pose it will cut at is checked first, and a call
-/// that returns an error has changed nothing. The cutting energy takes
-/// kerf.fmu's trapezoid (`Model::commit`): half the work of the outputs
-/// after the last commit plus half that of the outputs after this one, over
-/// `dt`; the first commit books the latter alone.
+/// cut follows the path from its previous cut ([`path_since`]), straight
+/// (positions linear, orientation by slerp), in sub-steps of at most
+/// `numerics.sweep_step` of rim travel; a jump is not a path: only the new
+/// pose is cut. All discs advance sub-step by sub-step, cutting in their
+/// order. Returns whether the face changed. The motions must have been
+/// validated. All or nothing: every pose it will cut at is checked first,
+/// and a call that returns an error has changed nothing. The cutting energy
+/// takes the trapezoid between the power after the last commit
+/// (`DiscState::last_power`) and the power after this one, over `dt`; the
+/// first commit books the latter alone.
 pub fn commit_paths(
     face: &mut Face,
     discs: &mut [Disc],
@@ -451,18 +491,7 @@ pub fn commit_paths(
         .iter()
         .zip(motions)
         .zip(discs.iter())
-        .map(|((s, (pose, twist)), d)| {
-            let prev = s.last_cut?;
-            let jump = (pose.position - prev.position).norm();
-            let explained = jump <= 2.0 * twist.velocity.norm() * dt + d.cutter.radius;
-            (explained && prev != *pose).then(|| {
-                (
-                    prev,
-                    UnitQuaternion::from_rotation_matrix(&prev.rotation()),
-                    UnitQuaternion::from_rotation_matrix(&pose.rotation()),
-                )
-            })
-        })
+        .map(|((s, (pose, twist)), d)| path_since(s.last_cut, (pose, twist), dt, d.cutter.radius))
         .collect();
     // each disc's own sub-steps (1 without a path: only the new pose)
     let counts: Vec<usize> = plans
@@ -470,11 +499,8 @@ pub fn commit_paths(
         .zip(motions)
         .zip(discs.iter())
         .map(|((plan, (pose, _)), d)| {
-            plan.as_ref().map_or(1, |(prev, q0, q1)| {
-                // kerf.fmu's count (`Model::commit`): the same rim travel,
-                // the same forgiving of round-off
-                let dp = pose.position - prev.position;
-                let travel = rim_travel_between(&dp, q0, q1, d.cutter.radius);
+            plan.as_ref().map_or(1, |path| {
+                let travel = path_travel(path, pose, d.cutter.radius);
                 steps_for(travel, params.numerics.sweep_step).min(1.0e7) as usize
             })
         })
@@ -486,31 +512,42 @@ pub fn commit_paths(
         dt,
     )?;
     let at = |k: usize, n: usize| -> Result<Vec<(Pose, Twist)>> {
-        let t = k as f64 / n as f64;
         Ok(plans
             .iter()
             .zip(motions)
-            .map(|(plan, &(pose, twist))| match plan {
-                Some((prev, q0, q1)) if k < n => {
-                    let q = q0.slerp(q1, t);
-                    let p = prev.position + (pose.position - prev.position) * t;
-                    (Pose::from_rotation(p, &q.to_rotation_matrix()), twist)
-                }
-                _ => (pose, twist),
-            })
+            .map(|(plan, (pose, twist))| (along_path(plan, pose, k, n), *twist))
             .collect())
     };
     let groups = time_groups(&counts);
     let what = "the event's paths since the last commit";
     check_call(&face.map, discs, &groups, at, what, dt)?;
     // nothing fails from here on: the commit is all or nothing
+    commit_checked(face, discs, states, motions, dt, params, &groups, at)
+}
+
+/// [`commit_paths`] after its checks, at the cut times `groups`
+/// ([`time_groups`] of the discs' sub-step counts), `at(k, n)` every
+/// disc's pose and twist at time `k / n`: what kerf.fmu's Model Exchange
+/// commit (`Model::commit`, which checks its one disc's path with its own
+/// words) and a head's both run.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn commit_checked(
+    face: &mut Face,
+    discs: &mut [Disc],
+    states: &mut [DiscState],
+    motions: &[(Pose, Twist)],
+    dt: f64,
+    params: &Params,
+    groups: &[(usize, usize, Vec<usize>)],
+    at: impl FnMut(usize, usize) -> Result<Vec<(Pose, Twist)>>,
+) -> Result<bool> {
     // the energy takes kerf.fmu's trapezoid between the power after the
     // last commit (`DiscState::last_power`) and the power after this one
     let before: Vec<Option<f64>> = states
         .iter()
         .map(|s| s.last_cut.map(|_| s.last_power))
         .collect();
-    let (changed, _) = cut_in_time_order(face, discs, states, params, &groups, at)?;
+    let (changed, _) = cut_in_time_order(face, discs, states, params, groups, at)?;
     for (s, (pose, _)) in states.iter_mut().zip(motions) {
         s.last_cut = Some(*pose);
     }

@@ -7,7 +7,10 @@ use super::contact_cutter_heightmap::Contact;
 use super::csm::CsmLaw;
 use super::cut_cutter_heightmap::window_nodes;
 use super::cutter::PosedDisc;
-use super::disc::{energy_over, sweep_checked, time_groups, Disc, DiscState};
+use super::disc::{
+    along_path, commit_checked, path_since, path_travel, sweep_checked, time_groups, Disc,
+    DiscState,
+};
 use super::error::{KerfError, Result};
 use super::face::{self, blob, Face};
 use super::heightmap::HeightMap;
@@ -485,14 +488,6 @@ impl Model {
         Ok(o.power_into_rock(twist))
     }
 
-    /// Cuts at `pose` for a disc moving with `twist` (chips follow the
-    /// path's curvature).
-    fn cut_at(&mut self, pose: &Pose, twist: &Twist) -> bool {
-        let s = &mut self.state;
-        self.disc
-            .cut_at(&mut s.face, &mut s.disc, pose, twist, &self.params)
-    }
-
     /// Cuts the rock at `pose` (a Model Exchange event). `dt` is the time since
     /// the previous commit, for the energy bookkeeping. Returns whether the rock changed.
     ///
@@ -515,48 +510,36 @@ impl Model {
         check_interval(dt)?;
         pose.validate()?;
         twist.validate()?;
-        let before = self.state.disc.last_cut.map(|_| self.state.disc.last_power);
         // the path, checked whole before anything changes
-        let mut path: Option<(UnitQuaternion<f64>, UnitQuaternion<f64>, Pose, usize)> = None;
-        if let Some(prev) = self.state.disc.last_cut {
-            let jump = (pose.position - prev.position).norm();
-            let explained = jump <= 2.0 * twist.velocity.norm() * dt + self.params.cutter.radius;
-            if explained && prev != *pose {
-                let (q0, q1) = (
-                    UnitQuaternion::from_rotation_matrix(&prev.rotation()),
-                    UnitQuaternion::from_rotation_matrix(&pose.rotation()),
-                );
-                let dp = pose.position - prev.position;
-                let cutter = &self.params.cutter;
-                let travel = rim_travel_between(&dp, &q0, &q1, cutter.radius);
-                let n = self.sub_steps(travel, "the solver step since the last event", dt)?;
-                path = Some((q0, q1, prev, n));
+        let radius = self.params.cutter.radius;
+        let path = path_since(self.state.disc.last_cut, (pose, twist), dt, radius);
+        let n = match &path {
+            Some(p) => {
+                let travel = path_travel(p, pose, radius);
+                self.sub_steps(travel, "the solver step since the last event", dt)?
             }
-        }
-        let along = |k: usize| -> Pose {
-            let (q0, q1, prev, n) = path.unwrap();
-            let t = k as f64 / n as f64;
-            let q = q0.slerp(&q1, t);
-            let p = prev.position + (pose.position - prev.position) * t;
-            Pose::from_rotation(p, &q.to_rotation_matrix())
+            None => 1,
         };
-        let n = path.map_or(1, |p| p.3);
         self.check_visits(
-            (1..n).map(along).chain(std::iter::once(*pose)),
+            (1..=n).map(|k| along_path(&path, pose, k, n)),
             "the solver step since the last event",
             dt,
         )?;
+        // the commit is a head's commit of its one disc (`disc::commit_paths`)
+        let groups = time_groups(&[n]);
+        let at = |k: usize, n: usize| Ok(vec![(along_path(&path, pose, k, n), *twist)]);
         self.transaction(|m| {
-            let mut changed = false;
-            for k in 1..n {
-                changed |= m.cut_at(&along(k), twist);
-            }
-            changed |= m.cut_at(pose, twist);
-            m.state.disc.last_cut = Some(*pose);
-            let p1 = m.evaluate(pose, twist)?.power_into_rock(twist);
-            m.state.face.cutting_energy += energy_over(before, p1, dt);
-            m.state.disc.last_power = p1;
-            Ok(changed)
+            let s = &mut m.state;
+            commit_checked(
+                &mut s.face,
+                std::slice::from_mut(&mut m.disc),
+                std::slice::from_mut(&mut s.disc),
+                &[(*pose, *twist)],
+                dt,
+                &m.params,
+                &groups,
+                at,
+            )
         })
     }
 

@@ -51,7 +51,7 @@ pub struct Disc {
     /// This disc's last cut, while the map it was made on has only lost
     /// rock since: what the next cut may leave out behind ([`Back`]).
     /// Not state: without it a cut walks its whole window, to the same face.
-    last_cut: Cell<Option<CutRecord>>,
+    cut_record: Cell<Option<CutRecord>>,
 }
 
 /// A cut a disc made: on which map history ([`HeightMap::lineage`]), at
@@ -73,7 +73,7 @@ impl Clone for Disc {
             relieved: self.relieved,
             cache: Cell::new(None),
             free: self.free,
-            last_cut: Cell::new(None),
+            cut_record: Cell::new(None),
         }
     }
 }
@@ -134,7 +134,7 @@ impl Disc {
             relieved: CsmLaw::scaled(cutter, csm, p_reg, pressure_scale),
             cache: Cell::new(None),
             free: false,
-            last_cut: Cell::new(None),
+            cut_record: Cell::new(None),
         }
     }
 
@@ -260,7 +260,7 @@ impl Disc {
     /// this disc's last cut, if it was made on this map's history with the
     /// same elastic layer, and both plastic fractions are 1.
     fn cut_back(&self, map: &HeightMap, disc: &PosedDisc, params: &Params) -> Option<Back> {
-        let r = self.last_cut.get()?;
+        let r = self.cut_record.get()?;
         let n = &params.numerics;
         let same = r.lineage == map.lineage()
             && r.elastic == n.elastic_depth
@@ -274,7 +274,7 @@ impl Disc {
 
     /// Keeps the cut just made on `map` for the next one's [`Back`].
     fn record_cut(&self, map: &HeightMap, disc: PosedDisc, front: Option<Front>, params: &Params) {
-        self.last_cut.set(Some(CutRecord {
+        self.cut_record.set(Some(CutRecord {
             lineage: map.lineage(),
             disc,
             front,
@@ -548,19 +548,37 @@ pub(crate) fn commit_checked(
         .map(|s| s.last_cut.map(|_| s.last_power))
         .collect();
     let (changed, _) = cut_in_time_order(face, discs, states, params, groups, at)?;
-    for (s, (pose, _)) in states.iter_mut().zip(motions) {
-        s.last_cut = Some(*pose);
-    }
     if changed {
         discs.iter().for_each(Disc::forget);
     }
-    let after = evaluate_all(discs, states, &face.map, motions, params);
-    for (i, (_, twist)) in motions.iter().enumerate() {
+    book_end(face, discs, states, motions, &before, dt, params);
+    Ok(changed)
+}
+
+/// The end of a commit or a step: each disc's last cut is its pose in
+/// `end`, and the cutting energy takes the trapezoid over `dt` from its
+/// power at the start (`before`; `None`: nothing cut before, the rectangle
+/// at the end) to the power its outputs report now, kept for the next one
+/// (`DiscState::last_power`). The caller has forgotten what the cuts
+/// changed.
+fn book_end(
+    face: &mut Face,
+    discs: &mut [Disc],
+    states: &mut [DiscState],
+    end: &[(Pose, Twist)],
+    before: &[Option<f64>],
+    dt: f64,
+    params: &Params,
+) {
+    for (s, (pose, _)) in states.iter_mut().zip(end) {
+        s.last_cut = Some(*pose);
+    }
+    let after = evaluate_all(discs, states, &face.map, end, params);
+    for (i, (_, twist)) in end.iter().enumerate() {
         let p1 = after[i].power_into_rock(twist);
         face.cutting_energy += energy_over(before[i], p1, dt);
         states[i].last_power = p1;
     }
-    Ok(changed)
 }
 
 /// The cutting energy over `dt` by the trapezoidal rule between the power
@@ -768,13 +786,8 @@ pub(crate) fn sweep_checked(
     let (_, end) = cut_in_time_order(face, discs, states, params, groups, at)?;
     // the last time is k / n = 1 for every disc: `end` holds the motions at h
     discs.iter().for_each(Disc::forget);
-    let o1 = evaluate_all(discs, states, &face.map, &end, params);
-    for (i, (s, (pose, twist))) in states.iter_mut().zip(&end).enumerate() {
-        let p1 = o1[i].power_into_rock(twist);
-        face.cutting_energy += energy_over(Some(p0[i]), p1, h);
-        s.last_cut = Some(*pose);
-        s.last_power = p1;
-    }
+    let before: Vec<Option<f64>> = p0.into_iter().map(Some).collect();
+    book_end(face, discs, states, &end, &before, h, params);
     Ok(end)
 }
 

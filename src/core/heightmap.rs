@@ -789,6 +789,50 @@ impl HeightMap {
             .map(|(i0, i1, j0, j1)| self.max_height(i0, i1, j0, j1))
     }
 
+    /// The highest node of the cells ([`Grid::cell`]) that points in
+    /// `[x0, x1] x [y0, y1]` lie in, read node by node; [`NO_ROCK`] when
+    /// the box misses the map. A tight bound over a few cells, where
+    /// [`HeightMap::max_height`] gives the tiles' bounds.
+    pub fn highest_node_under(&self, x0: f64, x1: f64, y0: f64, y1: f64) -> f64 {
+        let g = &self.grid;
+        let (u0, u1) = ((x0 - g.x_min) * g.inv_dx, (x1 - g.x_min) * g.inv_dx);
+        let (v0, v1) = ((y0 - g.y_min) * g.inv_dy, (y1 - g.y_min) * g.inv_dy);
+        if !(u1 >= 0.0 && v1 >= 0.0 && u0 <= g.u_max && v0 <= g.v_max) {
+            return NO_ROCK;
+        }
+        // (as `Grid::cell`: the index of a coordinate, at most the last
+        // cell's; the box clipped to the map)
+        let last_i = g.nx as i64 - 2;
+        let last_j = g.ny as i64 - 2;
+        let i0 = (u0.max(0.0) as i64).min(last_i) as usize;
+        let i1 = (u1.min(g.u_max) as i64).min(last_i) as usize + 1;
+        let j0 = (v0.max(0.0) as i64).min(last_j) as usize;
+        let j1 = (v1.min(g.v_max) as i64).min(last_j) as usize + 1;
+        let mut m = NO_ROCK;
+        if i0 / TILE == i1 / TILE && j0 / TILE == j1 / TILE {
+            // (one tile, the usual case)
+            return match &self.rows[j0 / TILE][i0 / TILE] {
+                Some(tile) => {
+                    let (a, b) = (i0 % TILE, i1 % TILE);
+                    for j in j0 % TILE..=j1 % TILE {
+                        for &z in &tile.d.z[j * TILE + a..=j * TILE + b] {
+                            m = if z > m { z } else { m };
+                        }
+                    }
+                    m
+                }
+                None => self.z0,
+            };
+        }
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let z = self.node(i, j);
+                m = if z > m { z } else { m };
+            }
+        }
+        m
+    }
+
     /// An upper bound of the node heights with indices in the given ranges.
     pub fn max_height(&self, i0: usize, i1: usize, j0: usize, j1: usize) -> f64 {
         let mut m = NO_ROCK;

@@ -150,6 +150,13 @@ pub struct Numerics {
     /// `cut_cutter_heightmap::Back`; the face is the same bit for bit).
     /// Not an FMU parameter: a switch for the tests that hold the two equal.
     pub cut_behind: bool,
+    /// Read the rock at every sample of the contact's start search
+    /// (`false`, the default: a run of samples whose rim is above every node
+    /// of the cells under it is passed over, see
+    /// `contact_cutter_heightmap::RimCircle::out_of_rock`; the contact is
+    /// the same bit for bit). Not an FMU parameter: a switch for the tests
+    /// that hold the two equal.
+    pub search_every_sample: bool,
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -229,6 +236,7 @@ impl Default for Numerics {
             direction: DirectionRule::Kerf,
             cut_ahead: false,
             cut_behind: false,
+            search_every_sample: false,
         }
     }
 }

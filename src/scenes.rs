@@ -85,10 +85,19 @@ pub fn pose_with_lowest_point(
 pub fn rolling_twist(prm: &Params, pose: &Pose, speed: f64, yaw_rate: f64) -> Twist {
     let rot = pose.cutter_rotation();
     let heading = rot * Vector3::x();
-    let heading = Vector3::new(heading.x, heading.y, 0.0).normalize() * speed;
+    let mut v = Vector3::new(heading.x, heading.y, 0.0).normalize() * speed;
     let axle = rot * Vector3::y();
     let w = axle * (speed / prm.cutter.radius) + Vector3::z() * yaw_rate;
-    Twist::new(heading.into(), w.into())
+    // turning, the centre of a tilted disc runs on its own circle, off the
+    // lowest point's by the lowest point's offset in plan: its velocity is
+    // the lowest point's less the turn's `yaw_rate z x offset` (an upright
+    // disc's offset is round-off, left out)
+    let low = PosedDisc::new(&prm.cutter, pose).lowest_point() - pose.position;
+    let off = Vector3::new(low.x, low.y, 0.0);
+    if yaw_rate != 0.0 && off.norm() > 1e-9 {
+        v -= Vector3::z().cross(&off) * yaw_rate;
+    }
+    Twist::new(v.into(), w.into())
 }
 
 fn cutter_frame(o: &Outputs, pose: &Pose) -> ([f64; 3], [f64; 3]) {

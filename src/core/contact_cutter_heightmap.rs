@@ -1653,9 +1653,11 @@ mod tests {
 
     /// `out_of_rock` passes over a run above the nodes under it, and not
     /// over one with a node above a rim point, nor over one a node
-    /// reaches by less than the margin; off the map nothing bounds it.
+    /// reaches by less than the margin; off the map there is no rock, and
+    /// the run is passed over.
     #[test]
     fn out_of_rock_passes_over_runs_no_node_reaches() {
+        // (node rows at y = -0.5 and 0.5 mm: the rim at y = 0 runs mid-cell)
         let grid = Grid::new(-0.3, 0.3, -0.0505, 0.0495, 601, 101);
         let c = CutterParams::default();
         // the lowest point 1 mm above a face at 0

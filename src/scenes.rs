@@ -92,10 +92,12 @@ pub fn rolling_twist(prm: &Params, pose: &Pose, speed: f64, yaw_rate: f64) -> Tw
     // lowest point's by the lowest point's offset in plan: its velocity is
     // the lowest point's less the turn's `yaw_rate z x offset` (an upright
     // disc's offset is round-off, left out)
-    let low = PosedDisc::new(&prm.cutter, pose).lowest_point() - pose.position;
-    let off = Vector3::new(low.x, low.y, 0.0);
-    if yaw_rate != 0.0 && off.norm() > 1e-9 {
-        v -= Vector3::z().cross(&off) * yaw_rate;
+    if yaw_rate != 0.0 {
+        let low = PosedDisc::new(&prm.cutter, pose).lowest_point() - pose.position;
+        let off = Vector3::new(low.x, low.y, 0.0);
+        if off.norm() > 1e-9 {
+            v -= Vector3::z().cross(&off) * yaw_rate;
+        }
     }
     Twist::new(v.into(), w.into())
 }

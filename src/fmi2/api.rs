@@ -271,6 +271,9 @@ pub unsafe extern "C" fn fmi2Instantiate(
         let Some(name) = name else {
             return fail(c"kerf", "instanceName is NULL".into());
         };
+        if let Some(why) = super::cpu::unsupported() {
+            return fail(name, why);
+        }
         let kind = match fmuType {
             x if x == fmi2Type_fmi2ModelExchange => Kind::ModelExchange,
             x if x == fmi2Type_fmi2CoSimulation => Kind::CoSimulation,

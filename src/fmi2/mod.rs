@@ -10,6 +10,7 @@
 //!   `api.rs` calls either kind through.
 //! * `state`: the serialized FMU state (versioned, length-prefixed, checksummed).
 //! * `log`: the host's logger and the panic guard.
+//! * `cpu`: the CPU features the build assumes, checked at fmi2Instantiate.
 //! * `api`: the 44 exported `fmi2...` functions; all `unsafe` code of the crate
 //!   is there and in `log`.
 //!
@@ -20,6 +21,7 @@
 //! independent and may run on different threads.
 
 mod api;
+mod cpu;
 mod generic;
 mod head;
 mod head_dispatch;

@@ -835,16 +835,25 @@ impl HeightMap {
 
     /// An upper bound of the node heights with indices in the given ranges.
     pub fn max_height(&self, i0: usize, i1: usize, j0: usize, j1: usize) -> f64 {
+        // (a disc's box spans some 250 tiles at 1 mm cells, read for every
+        // contact and every cut's window: a plain comparison, no NaN
+        // reaches a bound, and an absent tile read once as `z0`)
         let mut m = NO_ROCK;
-        for tj in j0 / TILE..=j1 / TILE {
-            let row = &self.rows[tj];
-            for ti in i0 / TILE..=i1 / TILE {
-                let h = match &row[ti] {
-                    Some(tile) => tile.z_max,
-                    None => self.z0,
-                };
-                m = m.max(h);
+        let mut absent = false;
+        for row in &self.rows[j0 / TILE..=j1 / TILE] {
+            for t in &row[i0 / TILE..=i1 / TILE] {
+                match t {
+                    Some(tile) => {
+                        if tile.z_max > m {
+                            m = tile.z_max;
+                        }
+                    }
+                    None => absent = true,
+                }
             }
+        }
+        if absent && self.z0 > m {
+            m = self.z0;
         }
         m
     }

@@ -50,6 +50,21 @@ struct TileData {
     cut: [u64; MASK_WORDS],
 }
 
+// (a row of a tile lies inside one mask word: `TileData::cell_mask`)
+const _: () = assert!(64 % TILE == 0);
+
+impl TileData {
+    /// The cut bits of the cell whose first node is `k` (not on the tile's
+    /// last row or column), as [`HeightMap::cell_cut`] orders them: a row of
+    /// the tile lies inside one mask word, so each pair of nodes along x is
+    /// one shift.
+    #[inline(always)]
+    fn cell_mask(&self, k: usize) -> u32 {
+        let pair = |k: usize| (self.cut[k / 64] >> (k % 64) & 3) as u32;
+        pair(k) | pair(k + TILE) << 2
+    }
+}
+
 #[derive(Debug, Clone)]
 struct Tile {
     d: Arc<TileData>,
@@ -743,10 +758,7 @@ impl HeightMap {
         if i % TILE < TILE - 1 && j % TILE < TILE - 1 {
             let (tj, ti, k) = self.tile_index(i, j);
             match &self.rows[tj][ti] {
-                Some(tile) => {
-                    let bit = |k: usize| (tile.d.cut[k / 64] >> (k % 64) & 1) as u32;
-                    bit(k) | bit(k + 1) << 1 | bit(k + TILE) << 2 | bit(k + TILE + 1) << 3
-                }
+                Some(tile) => tile.d.cell_mask(k),
                 None => 0,
             }
         } else {
@@ -766,11 +778,7 @@ impl HeightMap {
             match &self.rows[tj][ti] {
                 Some(tile) => {
                     let z = &tile.d.z[k..k + TILE + 2];
-                    let bit = |k: usize| (tile.d.cut[k / 64] >> (k % 64) & 1) as u32;
-                    (
-                        [z[0], z[1], z[TILE], z[TILE + 1]],
-                        bit(k) | bit(k + 1) << 1 | bit(k + TILE) << 2 | bit(k + TILE + 1) << 3,
-                    )
+                    ([z[0], z[1], z[TILE], z[TILE + 1]], tile.d.cell_mask(k))
                 }
                 None => ([self.z0; 4], 0),
             }

@@ -1251,34 +1251,20 @@ impl Circle {
     }
 }
 
-/// The contact of `disc` with `map` under `law` (kerf's law), for a disc
-/// moving with `twist` (rock frame).
-pub fn contact(
-    map: &HeightMap,
+/// The circles of the disc's surface the query walks: the `n` rim slices,
+/// then rings on each side face (the hub faces with flanks) over the part of
+/// it that reaches below `z_top` (when `rings`: the faces carry load), then
+/// bands along the flanks, written from the start of `circles`; returns
+/// their count. (Filled in place: the array is some 10 kB.)
+fn surface_circles(
+    circles: &mut [Circle; MAX_CIRCLES],
     disc: &PosedDisc,
-    law: &CsmLaw,
-    num: &Numerics,
-    elastic_depth: f64,
-    twist: &Twist,
-) -> Contact {
-    let g = map.grid();
-    let none = Contact::default();
-    // highest rock anywhere under the disc
-    let Some(z_top) = map.highest_within(disc.centre.x, disc.centre.y, disc.radius) else {
-        return none;
-    };
-    if disc.footprint_below(z_top).is_none() {
-        return none;
-    }
-    let cell = g.dx.min(g.dy);
-    let look = g.dx.max(g.dy);
-    let n = num.tip_slices;
+    n: usize,
+    z_top: f64,
+    cell: f64,
+    rings: bool,
+) -> usize {
     let h = disc.half_width;
-    let motion = Motion::new(disc, twist, look_ahead(look, num));
-
-    // the circles: rim slices, then rings on the side faces (the hub faces
-    // with flanks), then bands along the flanks
-    let mut circles = [Circle::default(); MAX_CIRCLES];
     let mut nc = 0;
     for k in 0..n {
         let y = slice_y(h, n, k);
@@ -1292,21 +1278,8 @@ pub fn contact(
         };
         nc += 1;
     }
-    // rings on each side face (the hub faces with flanks) over the part of
-    // it that reaches below the highest rock
-    let axle_z = disc.rot[(2, 1)];
-    let w_face = face_weight(axle_z);
-    // each face's share as the wall it drives into yields
-    // (`Motion::face_yield`), over the reach of a cut as deep as the
-    // highest rock near the disc
-    let w_sides = if w_face > 0.0 {
-        let reach = Motion::face_reach(disc, z_top);
-        [1.0, -1.0].map(|side| w_face * motion.face_yield(side, reach, elastic_depth))
-    } else {
-        [0.0; 2]
-    };
     for side in [1.0f64, -1.0] {
-        let Some((r_lo, r_hi)) = face_below(disc, side, z_top).filter(|_| w_face > 0.0) else {
+        let Some((r_lo, r_hi)) = face_below(disc, side, z_top).filter(|_| rings) else {
             continue;
         };
         let nr = (((r_hi - r_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_RINGS);
@@ -1343,6 +1316,47 @@ pub fn contact(
             }
         }
     }
+    nc
+}
+
+/// The contact of `disc` with `map` under `law` (kerf's law), for a disc
+/// moving with `twist` (rock frame).
+pub fn contact(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    law: &CsmLaw,
+    num: &Numerics,
+    elastic_depth: f64,
+    twist: &Twist,
+) -> Contact {
+    let g = map.grid();
+    let none = Contact::default();
+    // highest rock anywhere under the disc
+    let Some(z_top) = map.highest_within(disc.centre.x, disc.centre.y, disc.radius) else {
+        return none;
+    };
+    if disc.footprint_below(z_top).is_none() {
+        return none;
+    }
+    let cell = g.dx.min(g.dy);
+    let look = g.dx.max(g.dy);
+    let n = num.tip_slices;
+    let h = disc.half_width;
+    let motion = Motion::new(disc, twist, look_ahead(look, num));
+
+    let axle_z = disc.rot[(2, 1)];
+    let w_face = face_weight(axle_z);
+    // each face's share as the wall it drives into yields
+    // (`Motion::face_yield`), over the reach of a cut as deep as the
+    // highest rock near the disc
+    let w_sides = if w_face > 0.0 {
+        let reach = Motion::face_reach(disc, z_top);
+        [1.0, -1.0].map(|side| w_face * motion.face_yield(side, reach, elastic_depth))
+    } else {
+        [0.0; 2]
+    };
+    let mut circles = [Circle::default(); MAX_CIRCLES];
+    let mut nc = surface_circles(&mut circles, disc, n, z_top, cell, w_face > 0.0);
 
     // a moving disc's side face that drives into the rock nowhere ahead of
     // its lowest point carries no load (`Motion::face_drives_ahead`): its
@@ -1622,26 +1636,45 @@ pub fn contact(
                 sub_arcs[ci - n_main]
             }
         };
-        let [ap, am] = rim_arcs(kg);
-        let theta_slip = wp * ap.map_or(0.0, |a| a.a) + wm * am.map_or(0.0, |a| a.a);
-        let (mut wsum, mut ysum) = (0.0, 0.0);
-        for k in (0..n).chain(n_main..nc) {
-            let pair = rim_arcs(k);
-            let len = |a: Option<Arc>| a.map_or(0.0, |a| a.length);
-            // (a slice carrying part of its strip weighs in proportion)
-            let w = (wp * len(pair[0]) + wm * len(pair[1])) * (circles[k].width / w_strip);
-            wsum += w;
-            ysum += w * circles[k].y;
-        }
-        let y_f = if wsum > 0.0 {
-            (ysum / wsum).clamp(-h, h)
-        } else {
-            0.0
-        };
-        c.slip_point = disc.rot * disc.rim_point_local(theta_slip, y_f);
-        c.slip_normal = -(disc.rot * disc.rim_normal_local(theta_slip, y_f));
+        let rim = (0..n)
+            .chain(n_main..nc)
+            .map(|k| (circles[k].y, circles[k].width / w_strip, rim_arcs(k)));
+        (c.slip_point, c.slip_normal) = slip_point(disc, rim_arcs(kg), rim, (wp, wm));
     }
     c
+}
+
+/// Where friction reads the slip, and the rim's inward unit normal there
+/// (offset from the centre, rock frame): at the start of the deepest rim
+/// arcs `gov` (both sides blended by the weights `(wp, wm)`), across the
+/// tip where the rim arcs' lengths centre. `rim`: each rim circle's axle
+/// coordinate, the share of its strip it carries and its arcs.
+fn slip_point(
+    disc: &PosedDisc,
+    gov: [Option<Arc>; 2],
+    rim: impl Iterator<Item = (f64, f64, [Option<Arc>; 2])>,
+    (wp, wm): (f64, f64),
+) -> (Vector3<f64>, Vector3<f64>) {
+    let [ap, am] = gov;
+    let theta_slip = wp * ap.map_or(0.0, |a| a.a) + wm * am.map_or(0.0, |a| a.a);
+    let (mut wsum, mut ysum) = (0.0, 0.0);
+    for (y, share, pair) in rim {
+        let len = |a: Option<Arc>| a.map_or(0.0, |a| a.length);
+        // (a slice carrying part of its strip weighs in proportion)
+        let w = (wp * len(pair[0]) + wm * len(pair[1])) * share;
+        wsum += w;
+        ysum += w * y;
+    }
+    let h = disc.half_width;
+    let y_f = if wsum > 0.0 {
+        (ysum / wsum).clamp(-h, h)
+    } else {
+        0.0
+    };
+    (
+        disc.rot * disc.rim_point_local(theta_slip, y_f),
+        -(disc.rot * disc.rim_normal_local(theta_slip, y_f)),
+    )
 }
 
 #[cfg(test)]

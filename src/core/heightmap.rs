@@ -1129,6 +1129,55 @@ mod tests {
         assert!(m.is_cut(140, 0) && m.is_cut(33, 47));
     }
 
+    /// The fast cell reads (the cut mask two nodes a shift, the tiles'
+    /// height bound) against node-by-node reads, on a map cut in a
+    /// scattered pattern across tile edges and mask words, with absent
+    /// tiles between.
+    #[test]
+    fn cell_masks_and_height_bounds_match_node_by_node_reads() {
+        let g = Grid::new(0.0, 0.2, 0.0, 0.2, 201, 201);
+        let mut m = HeightMap::flat(g, 0.5);
+        for j in 0..120 {
+            for i in 0..120 {
+                // (a pattern with every cell shape: no tile fully cut, none
+                // untouched in the block, tile (3, 3) left absent)
+                if (i * 7 + j * 13) % 5 < 2 && !(96..128).contains(&i) {
+                    m.lower_node(i, j, 0.5 - 1e-3 * ((i + j) % 7) as f64);
+                }
+            }
+        }
+        m.set_node(150, 10, 0.6); // a raised node: the bound rises
+        for j in 0..g.ny - 1 {
+            for i in 0..g.nx - 1 {
+                let each = m.is_cut(i, j) as u32
+                    | (m.is_cut(i + 1, j) as u32) << 1
+                    | (m.is_cut(i, j + 1) as u32) << 2
+                    | (m.is_cut(i + 1, j + 1) as u32) << 3;
+                assert_eq!(m.cell_cut(i, j), each, "cell ({i}, {j})");
+                assert_eq!(m.cell_nodes_cut(i, j).1, each, "cell ({i}, {j})");
+            }
+        }
+        let highest = |i0: usize, i1: usize, j0: usize, j1: usize| {
+            (j0..=j1)
+                .flat_map(|j| (i0..=i1).map(move |i| (i, j)))
+                .map(|(i, j)| m.node(i, j))
+                .fold(NO_ROCK, f64::max)
+        };
+        for (i0, i1, j0, j1) in [
+            (0, 31, 0, 31),
+            (5, 130, 40, 70),
+            (97, 127, 97, 127),
+            (140, 200, 0, 20),
+        ] {
+            // (a bound: at least every node, and exact where no cut lowered
+            // the tile's top)
+            assert!(m.max_height(i0, i1, j0, j1) >= highest(i0, i1, j0, j1));
+        }
+        assert_eq!(m.max_height(97, 127, 97, 127), 0.5); // the absent tile reads z0
+        assert_eq!(m.max_height(140, 200, 0, 20), 0.6);
+        assert_eq!(m.max_height(0, 95, 0, 95), 0.5);
+    }
+
     #[test]
     fn flat_face_reads_z0_everywhere_and_nothing_outside() {
         let m = small();

@@ -3,38 +3,39 @@
 //! FMU refuses at fmi2Instantiate, naming what is missing, instead of
 //! stopping the host on an illegal instruction later.
 
-/// Features the compiler may have used here, with whether this build
-/// assumed each (`cfg!(target_feature)`), for x86-64.
+/// Features the compiler may have used here, for x86-64: each with whether
+/// this build assumed it (`cfg!(target_feature)`) and whether this CPU has
+/// it, side by side so the two cannot name different features.
 #[cfg(target_arch = "x86_64")]
-fn assumed() -> Vec<(&'static str, bool)> {
-    vec![
-        ("sse3", cfg!(target_feature = "sse3")),
-        ("ssse3", cfg!(target_feature = "ssse3")),
-        ("sse4.1", cfg!(target_feature = "sse4.1")),
-        ("sse4.2", cfg!(target_feature = "sse4.2")),
-        ("popcnt", cfg!(target_feature = "popcnt")),
-        ("cmpxchg16b", cfg!(target_feature = "cmpxchg16b")),
-    ]
-}
-
-#[cfg(target_arch = "x86_64")]
-fn detected(name: &str) -> bool {
-    match name {
-        "sse3" => std::is_x86_feature_detected!("sse3"),
-        "ssse3" => std::is_x86_feature_detected!("ssse3"),
-        "sse4.1" => std::is_x86_feature_detected!("sse4.1"),
-        "sse4.2" => std::is_x86_feature_detected!("sse4.2"),
-        "popcnt" => std::is_x86_feature_detected!("popcnt"),
-        "cmpxchg16b" => std::is_x86_feature_detected!("cmpxchg16b"),
-        _ => false,
+fn features() -> [(&'static str, bool, bool); 6] {
+    macro_rules! feature {
+        ($name:tt) => {
+            (
+                $name,
+                cfg!(target_feature = $name),
+                std::is_x86_feature_detected!($name),
+            )
+        };
     }
+    [
+        feature!("sse3"),
+        feature!("ssse3"),
+        feature!("sse4.1"),
+        feature!("sse4.2"),
+        feature!("popcnt"),
+        feature!("cmpxchg16b"),
+    ]
 }
 
 /// Why this CPU cannot run this binary, or `None` when it can.
 pub fn unsupported() -> Option<String> {
     #[cfg(target_arch = "x86_64")]
     {
-        missing(&assumed(), detected)
+        let f = features();
+        let assumed: Vec<(&str, bool)> = f.iter().map(|&(n, built, _)| (n, built)).collect();
+        missing(&assumed, |name| {
+            f.iter().any(|&(n, _, has)| n == name && has)
+        })
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
@@ -79,10 +80,10 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn this_build_assumes_x86_64_v2_and_this_cpu_has_it() {
-        let built: Vec<&str> = assumed()
+        let built: Vec<&str> = features()
             .into_iter()
-            .filter(|&(_, b)| b)
-            .map(|(n, _)| n)
+            .filter(|&(_, b, _)| b)
+            .map(|(n, _, _)| n)
             .collect();
         if std::env::var_os("RUSTFLAGS").is_none() {
             assert!(

@@ -109,14 +109,15 @@ impl Front {
 /// the face bit for bit as a whole cut does (`tests/cut_back.rs` holds that
 /// on every path a cutterhead makes).
 ///
-/// The argument, for an axle horizontal at both poses (a face disc; tilted
-/// discs cut whole): the solid is convex, so its lower boundary `f'` at
-/// the last pose is a convex function in plan, and the solid now is the
-/// last one moved by a turn `alpha` about the vertical and a shift: the
-/// boundary now at `x` is `f'(x')` (`x'` the point that moved to `x`) plus
-/// the rise `t_z`. Every node the last cut scanned lies no higher than
-/// `f'` plus the elastic layer (a cut only lowers, and so do the cuts of
-/// other discs and chips since), so a node at `x` can fall now only if
+/// The argument, for an axle horizontal at both poses (a face disc; a
+/// tilted disc's box is `Back::tilted`'s): the solid is convex, so its
+/// lower boundary `f'` at the last pose is a convex function in plan, and
+/// the solid now is the last one moved by a turn `alpha` about the
+/// vertical and a shift: the boundary now at `x` is `f'(x')` (`x'` the
+/// point that moved to `x`) plus the rise `t_z`. Every node the last cut
+/// scanned lies no higher than `f'` plus the elastic layer (a cut only
+/// lowers, and so do the cuts of other discs and chips since), so a node
+/// at `x` can fall now only if
 /// `f'(x') + t_z < f'(x)`. By convexity `f'(x') >= f'(x) - grad f'(x) . D`
 /// (`D = x - x'`); with `s'` the distance along the heading from the last
 /// centre (negative behind it), `Q = sqrt(rho^2 - s'^2)` and `S` the
@@ -134,6 +135,19 @@ pub struct Back {
     u: (f64, f64),
     s: [f64; 2],
     half: f64,
+    /// For a tilted disc, the part of the box inside its core ([`Core`]).
+    core: Option<Core>,
+}
+
+/// The plan of a tilted disc's core (`|y| <= h`, `|q_xz| <= rho(h)`) about
+/// the box's centre and heading: `(max(|l| - h_l, 0) / b)^2 + (s / a)^2
+/// <= 1`, `s` along the heading and `l` across it; shrunk by a micrometre's
+/// thousandth, so that every point of it lies strictly inside.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Core {
+    a: f64,
+    b: f64,
+    h_l: f64,
 }
 
 impl Back {
@@ -151,8 +165,11 @@ impl Back {
             && prev.hub_half_width == disc.hub_half_width
             && prev.flank_cot == disc.flank_cot;
         let (a0, a1) = (prev.rot.column(1), disc.rot.column(1));
-        if !same || a0.z.abs() > 1e-12 || a1.z.abs() > 1e-12 {
+        if !same {
             return None;
+        }
+        if a0.z.abs() > 1e-12 || a1.z.abs() > 1e-12 {
+            return Self::tilted(prev, disc).filter(|b| b.behind(prev_front));
         }
         let (r, h, rt, hw) = (
             disc.radius,
@@ -221,18 +238,141 @@ impl Back {
             u,
             s: [-far, -b],
             half,
+            core: None,
         };
-        // the last cut scanned the whole box: it lies behind its front
-        if let Some(f) = prev_front {
-            let inside = back
-                .corners()
+        back.behind(prev_front).then_some(back)
+    }
+
+    /// Whether the box lies behind the front of the last cut, which then
+    /// scanned all of it.
+    fn behind(&self, prev_front: Option<Front>) -> bool {
+        prev_front.is_none_or(|f| {
+            self.corners()
                 .iter()
-                .all(|p| p.0 * f.dir.0 + p.1 * f.dir.1 <= f.limit);
-            if !inside {
-                return None;
-            }
+                .all(|p| p.0 * f.dir.0 + p.1 * f.dir.1 <= f.limit)
+        })
+    }
+
+    /// [`Back::of`] for a disc whose axle is not horizontal (a gauge
+    /// cutter), before the front is checked: the argument above without
+    /// the section's slope, which a tilted disc's lower boundary does not
+    /// bound (it is steep at the disc's lowest point, on its silhouette).
+    ///
+    /// The solid now is the last one turned by `alpha` about the vertical
+    /// and shifted (both axles rise alike; a disc is the same solid
+    /// whatever its spin), so its lower boundary is `f(x) = f'(x') + t_z`
+    /// at `x`, and by convexity `f(x) >= f'(x)` wherever `n . V <= 0`, `n`
+    /// the outward normal of the last solid's lower boundary over `x` and
+    /// `V = (D, t_z)`, `D = x - x'`, how the solid moved there (`D` is
+    /// affine in `x`). That point is on the tip (the torus `|y| <= h`), on
+    /// the lower side face, or on the edge between them, whose normals are
+    /// the two's mixtures:
+    /// - on the tip, `n = cos(psi) e(theta) + sin(psi) a` with `|psi| <=
+    ///   asin(h / r_t)`; along the last heading `n_u = cos(psi) sin(theta)
+    ///   = cos(psi) s' / rho <= -cos(psi_max) |s'| / R` behind the last
+    ///   centre (`s' < 0`), across it `|n_l| <= N_l = |a_z| + sin(psi_max)
+    ///   |a_l|`, and `n_z t_z <= max(-t_z, 0)`. With `D_u >= D_min` over
+    ///   the box and `|D_l| <= d_l + k |s'|` (the turn's share grows with
+    ///   the distance behind), `n . V <= 0` from `s' <= -b'`, `b' = (N_l
+    ///   d_l + max(-t_z, 0)) / (cos(psi_max) D_min / R - N_l k)`;
+    /// - on the lower side face `n = -sign(a_z) a`, and `n . V` is checked
+    ///   at the box's corners: the face moving in its own plane or away from
+    ///   the rock under it (a turn one way; the other way, or a tilted disc
+    ///   diving or crabbing into its lower face's side, there is no box).
+    ///
+    /// The box is taken in the last pose's frame, and only its part inside
+    /// the plan of the last solid's core ([`Core`]: the two tip edges'
+    /// ellipses and the band between) is left out: there `f'` is finite
+    /// and has a slope. Flank-less discs only. `tests/cut_back.rs` holds
+    /// the claim node by node against the two solids.
+    fn tilted(prev: &PosedDisc, disc: &PosedDisc) -> Option<Back> {
+        if disc.has_flanks() || disc.half_width >= disc.tip_radius {
+            return None;
         }
-        Some(back)
+        let (r, h, rt) = (disc.radius, disc.half_width, disc.tip_radius);
+        let a0 = prev.rot.column(1).into_owned();
+        let mut a1 = disc.rot.column(1).into_owned();
+        // (an axle turned end for end is the same solid)
+        if a0.dot(&a1) < 0.0 {
+            a1 = -a1;
+        }
+        let (n0, n1) = (a0.x.hypot(a0.y), a1.x.hypot(a1.y));
+        if (a1.z - a0.z).abs() > 1e-12 || !(n0 > 1e-6 && n1 > 1e-6) {
+            return None;
+        }
+        let (l0, l1) = ((a0.x / n0, a0.y / n0), (a1.x / n1, a1.y / n1));
+        let (cos_a, sin_a) = (l0.0 * l1.0 + l0.1 * l1.1, l0.0 * l1.1 - l0.1 * l1.0);
+        if cos_a.is_nan() || cos_a < 0.999 {
+            return None;
+        }
+        let (c0, c1) = (prev.centre, disc.centre);
+        let (dx, dy) = (c1.x - c0.x, c1.y - c0.y);
+        let t_z = c1.z - c0.z;
+        // the last heading (horizontal in the last disc's plane), along
+        // the travel, and across it
+        let mut u = (l0.1, -l0.0);
+        if dx * u.0 + dy * u.1 < 0.0 {
+            u = (-u.0, -u.1);
+        }
+        let w = (-u.1, u.0);
+        let (ax_l, ax_z) = (a0.x * w.0 + a0.y * w.1, a0.z);
+        // the move `(D_u, D_l)` of the point at `(s', l')` of the last
+        // frame: now at x, it was at `x' = c0 + R(-alpha) (x - c1)`
+        let moved = |sp: f64, lp: f64| {
+            let (x, y) = (c0.x + sp * u.0 + lp * w.0, c0.y + sp * u.1 + lp * w.1);
+            let (vx, vy) = (x - c1.x, y - c1.y);
+            let (mx, my) = (
+                x - c0.x - cos_a * vx - sin_a * vy,
+                y - c0.y + sin_a * vx - cos_a * vy,
+            );
+            (mx * u.0 + my * u.1, mx * w.0 + my * w.1)
+        };
+        let corners = |s: [f64; 2], half: f64| {
+            [(s[0], -half), (s[0], half), (s[1], -half), (s[1], half)].map(|(sp, lp)| moved(sp, lp))
+        };
+        // the core's plan, and the box about it from 0.45 rho_h behind the
+        // centre (a 19 in gauge disc 6 mm deep and tilted 10 deg reaches
+        // 55 mm)
+        let rho_h = disc.rho(h);
+        let core = Core {
+            a: rho_h * (1.0 - 1e-9),
+            b: rho_h * ax_z.abs() * (1.0 - 1e-9),
+            h_l: h * n0 - 1e-9,
+        };
+        let half = core.h_l + core.b;
+        let far = 0.45 * rho_h;
+        // the move is affine in the place: `D = D(0) + k_s s' + k_l l'`;
+        // least along the heading over the box, and across it at most
+        // `|D_l(0)| + |k_l| half + |k_s| |s'|` (the turn's share grows with
+        // the distance behind, as the tip's bound does)
+        let d0 = moved(0.0, 0.0);
+        let (ds, dl) = (moved(1.0, 0.0), moved(0.0, 1.0));
+        let (ks, kl) = ((ds.0 - d0.0, ds.1 - d0.1), (dl.0 - d0.0, dl.1 - d0.1));
+        let du_min = d0.0 - ks.0.abs() * far - kl.0.abs() * half;
+        let cos_psi = (rt * rt - h * h).sqrt() / rt;
+        let n_l = (ax_z.abs() + h / rt * n0).min(1.0);
+        let gain = cos_psi * du_min / r - n_l * ks.1.abs();
+        let need = n_l * (d0.1.abs() + kl.1.abs() * half + 1e-15) + (-t_z).max(0.0);
+        if !(du_min > 0.0 && gain > 0.0 && core.b > 0.0 && core.h_l >= 0.0) {
+            return None;
+        }
+        let b = 1.05 * need / gain + 1e-9;
+        if b >= far {
+            return None;
+        }
+        let s = [-far, -b];
+        // the lower side face moves in its plane or away from the rock
+        let lower = -ax_z.signum();
+        let face_clear = corners(s, half)
+            .iter()
+            .all(|&(_, d_l)| lower * (ax_l * d_l + ax_z * t_z) <= 1e-13 * ax_z.abs());
+        face_clear.then_some(Back {
+            c: (c0.x, c0.y),
+            u,
+            s,
+            half,
+            core: Some(core),
+        })
     }
 
     /// The box's corners in plan.
@@ -245,6 +385,12 @@ impl Back {
             at(self.s[1], -self.half),
             at(self.s[1], self.half),
         ]
+    }
+
+    /// Whether a cut leaves node `(i, j)` of `g` out (for tests that hold
+    /// the box to the solids it comes from, node by node).
+    pub fn leaves_out(&self, g: &Grid, i: usize, j: usize) -> bool {
+        self.gap(g, j, i, i).is_some()
     }
 
     /// The nodes of row `j` inside the box, within `i0..=i1`, if any.
@@ -266,12 +412,60 @@ impl Back {
                 return None;
             }
         }
+        if let Some(core) = &self.core {
+            (lo, hi) = core.clip(y, u, lo, hi)?;
+        }
         // rounding: a node on the edge is walked
         let pad = 1e-9;
         let x0 = g.x_min - self.c.0;
         let k0 = ((lo + pad - x0) / g.dx).ceil().max(i0 as f64);
         let k1 = ((hi - pad - x0) / g.dx).floor().min(i1 as f64);
         (k0 <= k1).then_some((k0 as usize, k1 as usize))
+    }
+}
+
+impl Core {
+    /// `[lo, hi]` (of `x` about the centre, on the row `y` about it, `u`
+    /// the heading) clipped to the core: the union of its three convex
+    /// parts' stretches of the row, the band `|l| <= h_l` and the ellipses
+    /// at `l = +-h_l`, each an interval; `None` when none is left.
+    fn clip(&self, y: f64, u: (f64, f64), lo: f64, hi: f64) -> Option<(f64, f64)> {
+        // s = x u.0 + y u.1, l = -x u.1 + y u.0
+        let (su, s0) = (u.0, y * u.1);
+        let (lu, l0) = (-u.1, y * u.0);
+        let (mut a, mut b) = (f64::INFINITY, f64::NEG_INFINITY);
+        let mut join = |p: f64, q: f64| {
+            if p <= q {
+                a = a.min(p);
+                b = b.max(q);
+            }
+        };
+        // the band: |l| <= h_l, |s| <= a
+        let mut band = (f64::NEG_INFINITY, f64::INFINITY);
+        for (k, c, lim) in [(lu, l0, self.h_l), (su, s0, self.a)] {
+            if k.abs() > 1e-12 {
+                let (p, q) = ((-lim - c) / k, (lim - c) / k);
+                band = (band.0.max(p.min(q)), band.1.min(p.max(q)));
+            } else if c.abs() > lim {
+                band = (1.0, 0.0);
+            }
+        }
+        join(band.0, band.1);
+        // the ellipses: ((l -+ h_l) / b)^2 + (s / a)^2 <= 1
+        for off in [self.h_l, -self.h_l] {
+            let (p, q) = (lu / self.b, (l0 - off) / self.b);
+            let (m, n) = (su / self.a, s0 / self.a);
+            let qa = p * p + m * m;
+            let qb = p * q + m * n;
+            let qc = q * q + n * n - 1.0;
+            let disc = qb * qb - qa * qc;
+            if qa > 0.0 && disc >= 0.0 {
+                let root = disc.sqrt();
+                join((-qb - root) / qa, (-qb + root) / qa);
+            }
+        }
+        let (lo, hi) = (lo.max(a), hi.min(b));
+        (lo <= hi).then_some((lo, hi))
     }
 }
 

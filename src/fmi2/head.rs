@@ -477,7 +477,11 @@ impl FmuModel for HeadModel {
 
     fn advance(&mut self, cx: Ctx, h: f64) -> Result<(), StepError> {
         let head_start = self.head_pose(cx);
-        let motions = self.motions(cx);
+        // (the head drive places the discs itself)
+        let motions = match self.drive {
+            Drive::Head => Vec::new(),
+            Drive::Discs => self.motions(cx),
+        };
         let twist = twist_of(&self.values.head_in);
         let head = self
             .head

@@ -266,16 +266,7 @@ impl Disc {
     /// this disc's last cut, if it was made on this map's history with the
     /// same elastic layer, and both plastic fractions are 1.
     fn cut_back(&self, map: &HeightMap, disc: &PosedDisc, params: &Params) -> Option<Back> {
-        let r = self.cut_record.get()?;
-        let n = &params.numerics;
-        let same = r.lineage == map.lineage()
-            && r.elastic == n.elastic_depth
-            && r.fraction == 1.0
-            && params.rock.plastic_fraction == 1.0;
-        if n.cut_behind || !same {
-            return None;
-        }
-        Back::of(&r.disc, r.front, disc)
+        back_after(self.cut_record.get(), map, disc, params)
     }
 
     /// Keeps the cut just made on `map` for the next one's [`Back`].
@@ -340,6 +331,29 @@ fn cut_front(map: &HeightMap, disc: &PosedDisc, twist: &Twist, params: &Params) 
         &params.numerics,
         params.rock.plastic_fraction,
     )
+}
+
+/// A cut's window and the tiles it scans, if it scans any.
+type WindowTiles = Option<(Window, TileRect)>;
+
+/// [`Disc::cut_back`] from the disc's last cut `record` (read off the disc
+/// first: a disc's cells are not for other threads).
+fn back_after(
+    record: Option<CutRecord>,
+    map: &HeightMap,
+    disc: &PosedDisc,
+    params: &Params,
+) -> Option<Back> {
+    let r = record?;
+    let n = &params.numerics;
+    let same = r.lineage == map.lineage()
+        && r.elastic == n.elastic_depth
+        && r.fraction == 1.0
+        && params.rock.plastic_fraction == 1.0;
+    if n.cut_behind || !same {
+        return None;
+    }
+    Back::of(&r.disc, r.front, disc)
 }
 
 /// Longest move in plan between two poses of one path: a path is cut in
@@ -836,21 +850,23 @@ fn cut_together(
         .map(|&i| discs[i].posed(&motions[i].0))
         .collect();
     let map = &face.map;
-    let bounds: Vec<(Option<Front>, Option<Back>)> = posed
+    // each disc's front, box and window on the pool's threads (the boxes
+    // from the discs' last cuts, read off them here)
+    let records: Vec<(Option<CutRecord>, &Twist)> = group
         .iter()
-        .zip(group)
-        .map(|(d, &i)| {
-            let front = cut_front(map, d, &motions[i].1, params);
-            (front, discs[i].cut_back(map, d, params))
-        })
+        .map(|&i| (discs[i].cut_record.get(), &motions[i].1))
         .collect();
-    let windows: Vec<Option<(Window, TileRect)>> = posed
+    let (fronts, windows): (Vec<Option<Front>>, Vec<WindowTiles>) = posed
         .par_iter()
-        .zip(bounds.par_iter())
-        .map(|(d, &(front, back))| {
-            node_window(map, d, front, back).and_then(|w| w.tiles(map).map(|r| (w, r)))
+        .zip(records.par_iter())
+        .map(|(d, &(record, twist))| {
+            let front = cut_front(map, d, twist, params);
+            let back = back_after(record, map, d, params);
+            let window =
+                node_window(map, d, front, back).and_then(|w| w.tiles(map).map(|r| (w, r)));
+            (front, window)
         })
-        .collect();
+        .unzip();
     let mut wave = vec![0usize; group.len()];
     for a in 0..group.len() {
         let Some((_, ra)) = &windows[a] else { continue };
@@ -889,7 +905,7 @@ fn cut_together(
     }
     let mut changed = false;
     for (a, (&i, st)) in group.iter().zip(&stats).enumerate() {
-        discs[i].record_cut(&face.map, posed[a], bounds[a].0, params);
+        discs[i].record_cut(&face.map, posed[a], fronts[a], params);
         face.excavated_volume += st.volume;
         if st.nodes > 0 {
             discs[i].forget();

@@ -89,6 +89,11 @@ pub struct HeadModel {
     vars: Vec<HeadVar>,
     /// (type class, value reference) -> index in `vars`.
     lookup: FxHashMap<(Class, u32), usize>,
+    /// The per-disc value references ([`head_md::disc_vr`]) as a table:
+    /// `dense[vr - disc_vr(0, 0)]` is the index in `vars` plus one (0: no
+    /// variable). A host reading every disc's outputs each step made two
+    /// hash look-ups a value: 40 % of the reference head's 571-output read.
+    dense: Vec<u32>,
     start_values: HeadValues,
     values: HeadValues,
     head: Option<Head>,
@@ -145,6 +150,16 @@ impl HeadModel {
             .enumerate()
             .map(|(k, v)| ((class(v.ty), v.vr), k))
             .collect();
+        let base = head_md::disc_vr(0, 0);
+        let mut dense = vec![0u32; 100 * layout.cutters.len()];
+        for (k, v) in vars.iter().enumerate() {
+            if let Some(d) =
+                v.vr.checked_sub(base)
+                    .and_then(|d| dense.get_mut(d as usize))
+            {
+                *d = k as u32 + 1;
+            }
+        }
         let n = layout.cutters.len();
         let mut values = HeadValues {
             kerf: Values::start(),
@@ -184,6 +199,7 @@ impl HeadModel {
             drive,
             vars,
             lookup,
+            dense,
             start_values: values.clone(),
             values,
             head: None,
@@ -209,7 +225,20 @@ impl HeadModel {
     }
 
     fn slot(&self, c: Class, r: u32) -> Slot {
-        self.vars[self.lookup[&(c, r)]].slot
+        self.vars[self.index(c, r).expect("a known variable")].slot
+    }
+
+    /// The index in `vars` of the variable of class `c` with value
+    /// reference `r`, if there is one.
+    #[inline]
+    fn index(&self, c: Class, r: u32) -> Option<usize> {
+        let d = r.wrapping_sub(head_md::disc_vr(0, 0)) as usize;
+        match self.dense.get(d) {
+            Some(&k) => {
+                (k != 0 && class(self.vars[k as usize - 1].ty) == c).then(|| k as usize - 1)
+            }
+            None => self.lookup.get(&(c, r)).copied(),
+        }
     }
 
     /// The head pose the outputs are for (head drive).
@@ -280,7 +309,7 @@ impl FmuModel for HeadModel {
     const FATAL_STEP_FAILURE: bool = false;
 
     fn var(&self, c: Class, r: u32) -> Option<VarInfo<'_>> {
-        let v = &self.vars[*self.lookup.get(&(c, r))?];
+        let v = &self.vars[self.index(c, r)?];
         let items = match (v.slot, c) {
             (Slot::Kerf, Class::Integer) => {
                 md::position(md::INTEGERS, r, |x| x.vr).and_then(|i| md::INTEGERS[i].items)

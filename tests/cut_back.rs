@@ -140,6 +140,19 @@ fn circle(p: &Params, radius: f64, depth: f64) -> Circle {
     }
 }
 
+/// A tilted disc's arc (a gauge cutter's path): heading 30 deg to the
+/// grid, rolled by `roll` deg, 6 mm deep, on a track of `radius`, 1 m/s.
+fn tilted_arc(p: &Params, roll: f64, radius: f64) -> TiltedArc {
+    TiltedArc {
+        prm: p.clone(),
+        yaw: 30f64.to_radians(),
+        roll: roll.to_radians(),
+        depth: 6e-3,
+        radius,
+        speed: 1.0,
+    }
+}
+
 fn prm() -> Params {
     face(1e-3, -0.5, 0.5, -0.5, 0.5)
 }
@@ -268,14 +281,7 @@ fn curved_tracks_from_the_centre_to_the_gauge_cut_the_same_face() {
             &p,
             0.3,
             1e-3,
-            &TiltedArc {
-                prm: p.clone(),
-                yaw: 30f64.to_radians(),
-                roll: roll.to_radians(),
-                depth: 6e-3,
-                radius,
-                speed: 1.0,
-            },
+            &tilted_arc(&p, roll, radius),
         );
     }
 }
@@ -435,14 +441,7 @@ fn the_box_leaves_out_most_of_a_rolling_discs_window() {
     // the other way round turns the disc's lower side face into the rock
     // behind it, and gives none
     for (roll, some) in [(-60.0f64, true), (60.0, false)] {
-        let arc = TiltedArc {
-            prm: p.clone(),
-            yaw: 30f64.to_radians(),
-            roll: roll.to_radians(),
-            depth: 6e-3,
-            radius: 4.83,
-            speed: 1.0,
-        };
+        let arc = tilted_arc(&p, roll, 4.83);
         let b = Back::of(&posed(&arc.pose(0.1)), None, &posed(&arc.pose(0.101)));
         assert_eq!(b.is_some(), some, "tilted {roll} deg on a 4.83 m arc");
     }
@@ -524,16 +523,7 @@ fn a_box_leaves_out_only_nodes_the_disc_has_risen_from() {
         (10.0, 1.0),
         (0.0, 0.5),
     ]
-    .map(|(roll, radius)| {
-        Box::new(TiltedArc {
-            prm: p.clone(),
-            yaw: 30f64.to_radians(),
-            roll: roll.to_radians(),
-            depth: 6e-3,
-            radius,
-            speed: 1.0,
-        }) as Box<dyn Track>
-    });
+    .map(|(roll, radius)| Box::new(tilted_arc(&p, roll, radius)) as Box<dyn Track>);
     let mut boxes = 0;
     let mut left_out = 0;
     for (k, track) in lines.iter().chain(arcs.iter()).enumerate() {

@@ -488,8 +488,9 @@ fn a_restored_state_forgets_the_last_cut() {
 /// themselves (no map): at every node a box leaves out, the last pose's
 /// solid lies over the node and the solid now lies nowhere lower there
 /// (`PosedDisc::lower_boundary`, to round-off). On a 0.25 mm grid, for
-/// steps of 1 mm along tilted passes that climb, dive and crab, and along
-/// arcs turning either way, upright and tilted.
+/// steps of 1 mm along tilted passes that climb, dive and crab (one tilted
+/// by a millionth of a degree, which takes the tilted disc's argument), and
+/// along arcs turning either way, upright and tilted.
 #[test]
 fn a_box_leaves_out_only_nodes_the_disc_has_risen_from() {
     use kerf::core::cut_cutter_heightmap::Back;
@@ -505,6 +506,8 @@ fn a_box_leaves_out_only_nodes_the_disc_has_risen_from() {
         (30.0, 5.0, 0.0),
         (-30.0, 5.0, 0.0),
         (60.0, 2.0, 0.01),
+        (1e-6, 0.0, 0.0),
+        (0.5, 0.0, -0.01),
     ]
     .map(|(roll, crab, slope)| {
         Box::new(Line {

@@ -526,7 +526,8 @@ impl Head {
         Ok(advance_rigid(start, twist, h))
     }
 
-    /// [`Head::place`] through [`Head::placed`]'s memory of the last one.
+    /// [`Head::place`], or the placement kept in the `placed` field when it
+    /// is for this head pose and twist.
     fn placed(&mut self, head: &Pose, twist: &Twist) -> Vec<(Pose, Twist)> {
         if let Some((p, t, m)) = &self.placed {
             if p == head && t == twist {

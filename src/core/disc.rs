@@ -500,7 +500,7 @@ pub(crate) fn along_path(path: &Option<Path>, pose: &Pose, k: usize, n: usize) -
 
 /// Cuts the face at the motions' poses (a Model Exchange event): `dt` is the
 /// time since the previous commit, for the energy bookkeeping. Each disc's
-/// cut follows the path from its previous cut ([`path_since`]), straight
+/// cut follows the path from its previous cut (`path_since`), straight
 /// (positions linear, orientation by slerp), in sub-steps of at most
 /// `numerics.sweep_step` of rim travel; a jump is not a path: only the new
 /// pose is cut. All discs advance sub-step by sub-step, cutting in their

@@ -14,7 +14,6 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import headhost as hh  # noqa: E402
@@ -35,30 +34,18 @@ def main():
     ap.add_argument("fmu")
     ap.add_argument("--cell", type=float, default=None, help="height-map cell [m] (default: the FMU's)")
     a = ap.parse_args()
-    from fmpy.fmi2 import fmi2Real, fmi2ValueReference
 
     fmu = hh.HeadFMU(a.fmu)
-    starts = {"head.steadyPenetration": 0.006}
-    if a.cell:
-        for ax, lo, hi in (("nx", "rock.xMin", "rock.xMax"), ("ny", "rock.yMin", "rock.yMax")):
-            span = float(fmu.vars[hi].start) - float(fmu.vars[lo].start)
-            starts["rock." + ax] = int(round(span / a.cell)) + 1
-        starts["numerics.sweepStep"] = a.cell
-    f = fmu.instance("CS", start_values=starts)
+    f = fmu.steady_instance(a.cell)
     vrs = [fmu.vr[k] for k in fmu.names()]
     w = 3 * 2 * math.pi / 60
     vz = -0.006 * w / (2 * math.pi)
     fmu.set_motion(f, 0.0, w, vz)
     f.doStep(currentCommunicationPoint=0.0, communicationStepSize=1e-3)
-    vr_arr = (fmi2ValueReference * len(vrs))(*vrs)
-    val_arr = (fmi2Real * len(vrs))()
-
-    def raw():
-        f.fmi2GetReal(f.component, vr_arr, len(vrs), val_arr)
-        return np.ctypeslib.as_array(val_arr).copy()
+    read = fmu.output_reader(f)
 
     print(f"{len(vrs)} outputs: fmpy getReal {median_us(lambda: f.getReal(vrs)):.1f} us, "
-          f"raw fmi2GetReal {median_us(raw):.1f} us per call")
+          f"raw fmi2GetReal {median_us(lambda: read().copy()):.1f} us per call")
     t = [1e-3]
 
     def step():

@@ -52,12 +52,8 @@ def main():
     out_dir = Path(a.out)
     out_dir.mkdir(parents=True, exist_ok=True)
     surf = (out_dir / "head_face.rsf").resolve()
-    grid = {}
-    if a.cell:
-        # nodes over the FMU's own rock rectangle at the asked cell size
-        for ax, lo, hi in (("nx", "rock.xMin", "rock.xMax"), ("ny", "rock.yMin", "rock.yMax")):
-            span = float(fmu.vars[hi].start) - float(fmu.vars[lo].start)
-            grid["rock." + ax] = int(round(span / a.cell)) + 1
+    # nodes over the FMU's own rock rectangle at the asked cell size
+    grid = fmu.grid_starts(a.cell) if a.cell else {}
     nodes = (grid.get("rock.nx") or int(fmu.vars["rock.nx"].start)) * \
         (grid.get("rock.ny") or int(fmu.vars["rock.ny"].start))
     write_face = nodes <= 25_000_000

@@ -108,6 +108,15 @@ class HeadFMU:
     def close(self):
         shutil.rmtree(self.dir, ignore_errors=True)
 
+    def grid_starts(self, cell):
+        """Start values of `rock.nx` and `rock.ny` for cells of `cell` [m] over
+        the FMU's own rock rectangle."""
+        out = {}
+        for ax, lo, hi in (("nx", "rock.xMin", "rock.xMax"), ("ny", "rock.yMin", "rock.yMax")):
+            span = float(self.vars[hi].start) - float(self.vars[lo].start)
+            out["rock." + ax] = int(round(span / cell)) + 1
+        return out
+
     def instance(self, kind="CS", name="head", start_values=None):
         from fmpy.fmi2 import FMU2Model, FMU2Slave
 
@@ -129,6 +138,36 @@ class HeadFMU:
                 f.setReal(vr, [float(v)])
         f.exitInitializationMode()
         return f
+
+    def steady_instance(self, cell=None, p_rev=0.006):
+        """A Co-Simulation instance on the steady face of `p_rev` per
+        revolution, at cells and sweep steps of `cell` [m] (default: the
+        FMU's)."""
+        starts = {"head.steadyPenetration": p_rev}
+        if cell:
+            starts.update(self.grid_starts(cell))
+            starts["numerics.sweepStep"] = cell
+        return self.instance("CS", start_values=starts)
+
+    def output_reader(self, f):
+        """A function that reads every output `names()` lists into one numpy
+        array (the same array at every call) with a raw fmi2GetReal into
+        ctypes arrays made once: fmpy's getReal builds both from Python lists
+        at every call (85 of its 127 us for the reference head's 571
+        outputs)."""
+        from fmpy.fmi2 import fmi2OK, fmi2Real, fmi2ValueReference
+
+        vrs = [self.vr[k] for k in self.names()]
+        vr_arr = (fmi2ValueReference * len(vrs))(*vrs)
+        val_arr = (fmi2Real * len(vrs))()
+        values = np.ctypeslib.as_array(val_arr)
+
+        def read():
+            if f.fmi2GetReal(f.component, vr_arr, len(vrs), val_arr) != fmi2OK:
+                raise RuntimeError("fmi2GetReal failed")
+            return values
+
+        return read
 
     def names(self):
         """Output names recorded by `bore_cs`: totals then per disc."""
@@ -155,29 +194,18 @@ class HeadFMU:
     def bore_cs(self, f, w, p_rev, t_end, h, t0=0.0, progress=None):
         """Turns the head at `w` rad/s advancing `p_rev` per revolution from
         t0 to t_end in steps h; returns (t, outputs[names()])."""
-        from fmpy.fmi2 import fmi2OK, fmi2Real, fmi2ValueReference
-
         vz = -p_rev * w / (2 * math.pi)
-        names = self.names()
-        vrs = [self.vr[k] for k in names]
+        read = self.output_reader(f)
         n = int(round((t_end - t0) / h))
         ts = np.empty(n)
-        out = np.empty((n, len(vrs)))
-        # fmi2GetReal into arrays made once: fmpy's getReal builds both
-        # ctypes arrays from Python lists at every call (85 of its 127 us
-        # for the reference head's 571 outputs)
-        vr_arr = (fmi2ValueReference * len(vrs))(*vrs)
-        val_arr = (fmi2Real * len(vrs))()
-        values = np.ctypeslib.as_array(val_arr)
+        out = np.empty((n, len(self.names())))
         t = t0
         for k in range(n):
             self.set_motion(f, t, w, vz)
             f.doStep(currentCommunicationPoint=t, communicationStepSize=h)
             t = t0 + (k + 1) * h
             ts[k] = t
-            if f.fmi2GetReal(f.component, vr_arr, len(vrs), val_arr) != fmi2OK:
-                raise RuntimeError(f"fmi2GetReal failed at t = {t}")
-            out[k] = values
+            out[k] = read()
             if progress and k % max(1, n // 20) == 0:
                 progress(k, n)
         return ts, out

@@ -141,8 +141,9 @@ pub struct Back {
 
 /// The plan of a tilted disc's core (`|y| <= h`, `|q_xz| <= rho(h)`) about
 /// the box's centre and heading: `(max(|l| - h_l, 0) / b)^2 + (s / a)^2
-/// <= 1`, `s` along the heading and `l` across it; shrunk by a micrometre's
-/// thousandth, so that every point of it lies strictly inside.
+/// <= 1`, `s` along the heading and `l` across it; `a` and `b` shrunk by a
+/// part in 1e9 and `h_l` by 1 nm, so that every point of it lies strictly
+/// inside.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Core {
     a: f64,

@@ -396,29 +396,89 @@ impl Back {
 
     /// The nodes of row `j` inside the box, within `i0..=i1`, if any.
     fn gap(&self, g: &Grid, j: usize, i0: usize, i1: usize) -> Option<(usize, usize)> {
-        let y = g.y_min + g.dy * j as f64 - self.c.1;
+        self.rows().gap(g, j, i0, i1)
+    }
+
+    /// The box's stretch of each row, as bounds affine in the row's `y`
+    /// (found once a cut, read at every row).
+    fn rows(&self) -> BackRows {
         let (u, l) = (self.u, (-self.u.1, self.u.0));
-        // x - c.x in [lo, hi]
-        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-        for (k, b, a_lo, a_hi) in [
-            (u.0, y * u.1, self.s[0], self.s[1]),
-            (l.0, y * l.1, -self.half, self.half),
-        ] {
-            // a_lo <= k x + b <= a_hi
-            if k.abs() > 1e-12 {
-                let (p, q) = ((a_lo - b) / k, (a_hi - b) / k);
-                lo = lo.max(p.min(q));
-                hi = hi.min(p.max(q));
-            } else if b < a_lo || b > a_hi {
-                return None;
+        BackRows {
+            back: *self,
+            strips: [
+                Strip::new(u.0, u.1, self.s[0], self.s[1]),
+                Strip::new(l.0, l.1, -self.half, self.half),
+            ],
+        }
+    }
+}
+
+/// `a_lo <= k x + m y <= a_hi` on a row `y`, for `|k| > 1e-12`, as bounds on
+/// `x` affine in `y`: `lo + slope y <= x <= hi + slope y`; else the
+/// condition on `y` alone (`k`, `m`, `a_lo`, `a_hi` kept). A window's rows
+/// read each bound with one multiply-add, where a division by `k` each
+/// row was a tenth of a cut's instructions.
+#[derive(Debug, Clone, Copy)]
+enum Strip {
+    Slope { lo: f64, hi: f64, slope: f64 },
+    Level { m: f64, a_lo: f64, a_hi: f64 },
+}
+
+impl Strip {
+    fn new(k: f64, m: f64, a_lo: f64, a_hi: f64) -> Self {
+        if k.abs() > 1e-12 {
+            let (p, q) = (a_lo / k, a_hi / k);
+            Strip::Slope {
+                lo: p.min(q),
+                hi: p.max(q),
+                slope: -m / k,
+            }
+        } else {
+            Strip::Level { m, a_lo, a_hi }
+        }
+    }
+
+    /// `[lo, hi]` clipped to the strip on row `y`; `None` when a level
+    /// strip misses the row.
+    #[inline]
+    fn clip(&self, y: f64, lo: f64, hi: f64) -> Option<(f64, f64)> {
+        match *self {
+            Strip::Slope {
+                lo: a,
+                hi: b,
+                slope,
+            } => Some((lo.max(a + slope * y), hi.min(b + slope * y))),
+            Strip::Level { m, a_lo, a_hi } => {
+                let b = y * m;
+                (b >= a_lo && b <= a_hi).then_some((lo, hi))
             }
         }
-        if let Some(core) = &self.core {
-            (lo, hi) = core.clip(y, u, lo, hi)?;
+    }
+}
+
+/// A [`Back`] box ready to clip rows ([`Back::rows`]).
+#[derive(Debug, Clone, Copy)]
+struct BackRows {
+    back: Back,
+    strips: [Strip; 2],
+}
+
+impl BackRows {
+    /// [`Back::gap`].
+    fn gap(&self, g: &Grid, j: usize, i0: usize, i1: usize) -> Option<(usize, usize)> {
+        let b = &self.back;
+        let y = g.y_min + g.dy * j as f64 - b.c.1;
+        // x - c.x in [lo, hi]
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for s in &self.strips {
+            (lo, hi) = s.clip(y, lo, hi)?;
+        }
+        if let Some(core) = &b.core {
+            (lo, hi) = core.clip(y, b.u, lo, hi)?;
         }
         // rounding: a node on the edge is walked
         let pad = 1e-9;
-        let x0 = g.x_min - self.c.0;
+        let x0 = g.x_min - b.c.0;
         let k0 = ((lo + pad - x0) / g.dx).ceil().max(i0 as f64);
         let k1 = ((hi - pad - x0) / g.dx).floor().min(i1 as f64);
         (k0 <= k1).then_some((k0 as usize, k1 as usize))
@@ -493,13 +553,30 @@ pub struct Window {
 }
 
 /// The bounds a [`Window`]'s rows are clipped to: the world box
-/// `[x_lo, x_hi]` and the heading box, `(cos, sin)` of the heading and
-/// `[u_lo, u_hi, v_lo, v_hi]` about the rock origin, and the front.
+/// `[x_lo, x_hi]`, the heading box (`u = x cos + y sin` in `[u_lo, u_hi]`,
+/// `v = -x sin + y cos` in `[v_lo, v_hi]` about the rock origin) and the
+/// front, each as a [`Strip`] (a strip across the heading box that is level
+/// in `y` does not clip: the world box holds it).
 struct Bounds {
     x: [f64; 2],
-    heading: (f64, f64),
-    uv: [f64; 4],
-    front: Option<Front>,
+    strips: [Option<Strip>; 3],
+}
+
+impl Bounds {
+    fn new(x: [f64; 2], (c, s): (f64, f64), uv: [f64; 4], front: Option<Front>) -> Self {
+        let slope = |k: f64, m: f64, lo: f64, hi: f64| match Strip::new(k, m, lo, hi) {
+            st @ Strip::Slope { .. } => Some(st),
+            Strip::Level { .. } => None,
+        };
+        Self {
+            x,
+            strips: [
+                slope(c, s, uv[0], uv[1]),
+                slope(-s, c, uv[2], uv[3]),
+                front.map(|f| Strip::new(f.dir.0, f.dir.1, f64::NEG_INFINITY, f.limit)),
+            ],
+        }
+    }
 }
 
 impl Window {
@@ -549,26 +626,9 @@ impl Bounds {
     /// The node range of row `j`, or `None`.
     fn row(&self, g: &Grid, j: usize) -> Option<(usize, usize)> {
         let y = g.y_min + g.dy * j as f64;
-        let (c, s) = self.heading;
         let [mut lo, mut hi] = self.x;
-        // u = x c + y s in [u_lo, u_hi], v = -x s + y c in [v_lo, v_hi]
-        let mut clip = |k: f64, b: f64, a_lo: f64, a_hi: f64| {
-            // a_lo <= k x + b <= a_hi
-            if k.abs() > 1e-12 {
-                let (p, q) = ((a_lo - b) / k, (a_hi - b) / k);
-                lo = lo.max(p.min(q));
-                hi = hi.min(p.max(q));
-            }
-        };
-        clip(c, y * s, self.uv[0], self.uv[1]);
-        clip(-s, y * c, self.uv[2], self.uv[3]);
-        if let Some(f) = self.front {
-            let (k, b) = (f.dir.0, y * f.dir.1);
-            if k.abs() > 1e-12 {
-                clip(k, b, f64::NEG_INFINITY, f.limit);
-            } else if b > f.limit {
-                return None;
-            }
+        for s in self.strips.iter().flatten() {
+            (lo, hi) = s.clip(y, lo, hi)?;
         }
         // rounding: a node on the edge stays in
         let pad = 1e-9;
@@ -605,14 +665,9 @@ pub fn node_window(
         ..*disc
     };
     let uv = turned.footprint_below(z_top)?;
-    let bounds = Bounds {
-        x: [bb[0], bb[1]],
-        heading: (c, s),
-        uv,
-        front,
-    };
+    let bounds = Bounds::new([bb[0], bb[1]], (c, s), uv, front);
     let rows: Vec<Option<(usize, usize)>> = (j0..=j1).map(|j| bounds.row(g, j)).collect();
-    let gaps = match back {
+    let gaps = match back.map(|b| b.rows()) {
         Some(b) => (j0..=j1)
             .zip(&rows)
             .map(|(j, r)| r.and_then(|(i0, i1)| b.gap(g, j, i0, i1)))

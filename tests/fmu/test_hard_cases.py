@@ -145,10 +145,14 @@ def test_first_contact_while_rolling_force_rises_with_the_csm_law(fmu, kind):
 @pytest.mark.parametrize("kind", KINDS)
 def test_first_contact_pressing_straight_down_pushes_straight_up(fmu, kind):
     """At rest in x, the cutter descends at vz = -20 mm/s from 1 mm above the face
-    to 4 mm deep.  Physics: the pit it presses is symmetric, both arcs are as
-    deep as the lowest point, so the resultant is vertical and equals the full
-    CSM F_t(p) (not F_N: no lean); no rolling or side force; the rock takes work
-    (cuttingEnergy grows as F |vz|)."""
+    to 4 mm deep.  Physics (the area law): the pit it presses is symmetric and
+    both of its arcs drive into the rock.  Each arc's CSM resultant F_t(p) leans
+    phi/2 off the vertical, one forwards and one backwards, and the side blend
+    weighs the two alike, so the resultant is vertical and equals
+    F_t cos(phi/2) = F_N(p) (the thesis's law pushed with F_t).  No rolling or
+    side force; the rock takes work (cuttingEnergy grows).  Below 1 mm the
+    pressure level is held at its 1 mm value (README, "Contact law: known
+    gaps"), so the size is checked from 1 mm on."""
     ks = u.knots_line(dict(x=0.5, z=R + 1e-3), dict(vz=-0.02), 0.25)
     res = u.run(kind, fmu, ks, H)
     depth = R - res["z"]
@@ -156,10 +160,10 @@ def test_first_contact_pressing_straight_down_pushes_straight_up(fmu, kind):
     check_history(res, f"{kind} press down", p_geo, skip=0)
     above = depth < -1e-9
     assert np.all(res["normalForce"][above] == 0)
-    deep = depth > 0.1e-3
-    ft = np.array([law(p) for p in depth[deep]])
-    err = np.max(np.abs(res["normalForce"][deep] / ft - 1))
-    assert err < 0.02, f"{kind}: pressing down, normal force strays {err:.2%} from F_t(depth)"
+    deep = depth >= 1e-3 - 1e-9
+    fn = np.array([u.csm_force(p)["FN"] for p in depth[deep]])
+    err = np.max(np.abs(res["normalForce"][deep] / fn - 1))
+    assert err < 0.02, f"{kind}: pressing down, normal force strays {err:.2%} from F_N(depth)"
     for name in ("rollingForce", "sideForce", "Fx", "Fy"):
         assert np.all(np.abs(res[name]) <= 1e-3 * res["normalForce"] + 1e-6), name
     e = res["cuttingEnergy"]
@@ -243,29 +247,48 @@ def face_depth(pose):
     return -(pose["z"] + s * (-T / 2) + c * (-rho))
 
 
+def rolled_cut(fmu, kind, roll, depth, length=0.2):
+    """A disc rolled by `roll`, its lowest tip point `depth` below the flat
+    face, rolling at 1 m/s for `length`; the run and its work per volume of
+    rock removed from x = 5 mm on [J/m3]."""
+    pose = u.tilted_pose(roll, depth)
+    res = u.run(kind, fmu, u.knots_line(pose, u.rolling_twist(1.0, roll), length), H)
+    st = res["x"] >= 0.005
+    e, v = res["cuttingEnergy"][st], res["excavatedVolume"][st]
+    return res, (e[-1] - e[0]) / (v[-1] - v[0])
+
+
 @pytest.mark.parametrize("kind", KINDS)
-def test_deep_tilted_cutter_side_face_pushes_along_the_axle(fmu, kind):
+def test_deep_tilted_cutter_rolling_side_face_carries_no_pressure(fmu, kind):
     """Roll 30 deg, lowest point 20 mm deep, rolling: the lower flat side face is
-    deep in the rock.  Physics: the rock pushes that face along its outward
-    normal's opposite, i.e. along the axle +y_cutter (sideForce > 0, Fy > 0 and
-    Fz > 0 in the rock frame); the tip still cuts (F_N >= 0.8 F_N,csm(20 mm),
-    rollingForce > 0); the total is bounded by the tip's CSM force plus the
-    base pressure P' over the whole face area below the face of the rock."""
+    deep in the rock.  Physics (the area law): the roll is about the heading and
+    the spin about the face's normal, so every point of the rolling face moves
+    in the face's own plane; it drives into no rock and carries no cutting
+    pressure.  The tip carries the load: F_N >= 0.8 F_N,csm(20 mm),
+    rollingForce > 0, and a small side force from its tilted profile
+    (0 < sideForce < 5 % of F_N); in the rock frame that force leans with the
+    tilt (Fy < 0, Fz > 0).  The cut removes the rock under the face as well
+    (325 mm2 a metre against 253 upright), which the tip's work pays for: the
+    work per volume removed stays within 30 % of the upright cut's at the same
+    depth (the bound issue 7 sets for partial cuts; 0.82 here).  The total is
+    bounded by the tip's CSM force plus the base pressure P' over the face
+    below the rock."""
     roll, p = math.radians(30), 20e-3
     pose = u.tilted_pose(roll, p)
-    ks = u.knots_line(pose, u.rolling_twist(1.0, roll), 0.2)
-    res = u.run(kind, fmu, ks, H)
+    res, wv = rolled_cut(fmu, kind, roll, p)
+    _, wv_upright = rolled_cut(fmu, kind, 0.0, p)
     f_bound = law(p) + P_PRIME * side_face_segment_area(roll, face_depth(pose))
     check_history(res, f"{kind} deep tilted", np.full_like(res["time"], p), scale=f_bound)
     st = res["x"] >= 0.005
-    assert np.all(res["sideForce"][st] > 0) and np.all(res["Fy"][st] > 0) and np.all(res["Fz"][st] > 0)
-    assert np.all(res["normalForce"][st] >= 0.8 * u.csm_force(p)["FN"])
+    fn, fs = res["normalForce"][st], res["sideForce"][st]
+    assert np.all(fs > 0) and np.all(fs < 0.05 * fn)
+    assert np.all(res["Fy"][st] < 0) and np.all(res["Fz"][st] > 0)
+    assert np.all(fn >= 0.8 * u.csm_force(p)["FN"])
     assert np.all(res["rollingForce"][st] > 0)
+    assert 0.7 < wv / wv_upright < 1.3, f"work per volume {wv / wv_upright:.3f} of the upright cut's"
     fmag = np.sqrt(res["Fx"] ** 2 + res["Fy"] ** 2 + res["Fz"] ** 2)
     assert np.all(fmag <= f_bound), f"|F| {fmag.max():.0f} N > bound {f_bound:.0f} N"
 
-
-# =========================================================================== tilt
 
 @pytest.mark.parametrize("roll_deg", [30, 60])
 @pytest.mark.parametrize("kind", KINDS)
@@ -275,13 +298,16 @@ def test_strong_tilt_pushes_the_cutter_up_and_resists_rolling(fmu, kind, roll_de
     rolling without slip about the tilted axle.  Physics: the face of the rock
     pushes the cutter out of the rock (Fz > 0, more up than sideways: |Fy| <
     Fz), the rim's leading arc resists rolling (rollingForce > 0), the up-force
-    has a positive share along the up-tilted axle (sideForce > 0); size: at least
-    0.8 of the upright F_N at 3.8 mm, at most F_t plus P' over the part of the
-    lower side face that dips below the face of the rock."""
+    has a positive share along the up-tilted axle (sideForce > 0).  Size (the
+    area law): at the same lowest-point depth a tilted disc removes less rock
+    (28.6 mm2 a metre at 30 deg, 21.8 at 60, against 41.9 upright), and its
+    force follows the rock removed: the work per volume removed is the upright
+    cut's within 5 % (measured 0.1 % and 2.3 %).  At most F_t plus P' over the
+    part of the lower side face that dips below the face of the rock."""
     roll = math.radians(roll_deg)
     pose = u.tilted_pose(roll, P_REF)
-    ks = u.knots_line(pose, u.rolling_twist(1.0, roll), 0.2)
-    res = u.run(kind, fmu, ks, H)
+    res, wv = rolled_cut(fmu, kind, roll, P_REF)
+    _, wv_upright = rolled_cut(fmu, kind, 0.0, P_REF)
     f_bound = law(P_REF) + P_PRIME * side_face_segment_area(roll, face_depth(pose))
     check_history(res, f"{kind} roll {roll_deg}", np.full_like(res["time"], P_REF), scale=FN_REF)
     st = res["x"] >= 0.005
@@ -290,7 +316,8 @@ def test_strong_tilt_pushes_the_cutter_up_and_resists_rolling(fmu, kind, roll_de
     assert np.all(res["normalForce"][st] > 0)
     assert np.all(res["rollingForce"][st] > 0)
     assert np.all(res["sideForce"][st] > 0)
-    assert np.all(fz >= 0.8 * FN_REF)
+    assert wv / wv_upright == pytest.approx(1.0, abs=0.05), \
+        f"work per volume {wv / wv_upright:.3f} of the upright cut's"
     fmag = np.sqrt(res["Fx"] ** 2 + res["Fy"] ** 2 + res["Fz"] ** 2)
     assert np.all(fmag <= f_bound), f"|F| {fmag.max():.0f} N > bound {f_bound:.0f} N"
 
@@ -358,30 +385,39 @@ def test_rolling_backwards_mirrors_rolling_forwards(fmu, kind):
     assert np.all(np.diff(res["cuttingEnergy"]) >= 0)
 
 
+def rim_segment_area(p, R=R):
+    """Area of the disc's cross-section (in its own plane) below a flat face it
+    is `p` deep in: the rim circle's segment of height p."""
+    return R * R * math.acos((R - p) / R) - (R - p) * math.sqrt(2 * R * p - p * p)
+
+
 @pytest.mark.parametrize("kind", KINDS)
-def test_sliding_sideways_friction_resists_the_slide(fmu, kind):
+def test_sliding_sideways_cuts_a_trench_against_friction_and_the_wall(fmu, kind):
     """vy = 0.1 m/s with wy = 0 (a skidding cutter), 3.8 mm deep at x = 0.5.
-    Physics: the slip at the lowest point is vy >> vs, so friction is full:
-    -mu |F_rim| along y.  In the symmetric pit at t = 0 the rim force is
-    vertical and sideForce = -mu F_N exactly; once the cutter has moved, the +y
-    flank of the tip cuts the groove wall and its normal leans the rim force
-    further to -y: sideForce stays between -mu F_N and -(mu * 1.2 + tan 31 deg)
-    F_N (31 deg: the tip profile's normal at its edge).  The rock takes the work
-    of the slide: d(cuttingEnergy)/dt = -Fy vy."""
+    Physics (the area law): the slip at the lowest point is vy >> vs, so
+    friction is full, mu |F_rim| against the slide; and the disc's +y side
+    drives into the rock beside it and cuts it, so the wall pushes back too:
+    sideForce < -mu F_N from the first sample on (0.61 F_N here, against
+    mu = 0.3), and no more than friction plus the base pressure P' over the
+    disc's cross-section below the face.  The slide removes a trench of that
+    cross-section (the rim's segment 3.8 mm deep, 205 mm2) at vy, and the
+    rock takes the work of the slide: d(cuttingEnergy)/dt = -Fy vy."""
     vy = 0.1
     ks = u.knots_line(dict(x=0.5, z=Z_REF), dict(vy=vy), 0.2)
     res = u.run(kind, fmu, ks, H)
     check_history(res, f"{kind} sideways")
     fn, fs = res["normalForce"], res["sideForce"]
-    assert fs[0] == pytest.approx(-MU * fn[0], rel=1e-2), "friction at the start of the slide"
+    area = rim_segment_area(P_REF)
+    assert np.all(fs < -MU * fn)
+    assert np.all(fs > -(MU * fn + P_PRIME * area))
+    assert np.all(res["Fy"] < 0)
     st = res["time"] >= 0.01
-    tan_edge = math.tan(math.asin(T / 2 / kh.REFERENCE["r"]))
-    assert np.all(fs[st] < -0.95 * MU * fn[st])
-    assert np.all(fs[st] > -(1.2 * MU + tan_edge) * fn[st])
-    assert np.all(res["Fy"][st] < 0)
-    e, t = res["cuttingEnergy"], res["time"]
+    e, t, v = res["cuttingEnergy"], res["time"], res["excavatedVolume"]
     rate = (e[-1] - e[st][0]) / (t[-1] - t[st][0])
     assert rate == pytest.approx(-np.mean(res["Fy"][st]) * vy, rel=0.02)
+    trench = (v[-1] - v[st][0]) / (t[-1] - t[st][0]) / vy
+    assert trench == pytest.approx(area, rel=0.01), \
+        f"trench {trench * 1e6:.2f} mm2 against the rim's segment {area * 1e6:.2f} mm2"
 
 
 @pytest.mark.parametrize("kind", KINDS)

@@ -476,6 +476,18 @@ impl SliceWalk {
     /// brackets each contact arc's ends: the circle, the lowest point's sine
     /// and cosine and the rock over it read once.
     fn march_both(&self, map: &HeightMap, disc: &PosedDisc) -> [Option<Walk>; 2] {
+        self.march_sides(map, disc, [true; 2])
+    }
+
+    /// [`SliceWalk::march_both`] on the sides `wanted` (`[+1, -1]`); a side
+    /// not wanted is `None`.
+    #[inline(always)]
+    fn march_sides(
+        &self,
+        map: &HeightMap,
+        disc: &PosedDisc,
+        wanted: [bool; 2],
+    ) -> [Option<Walk>; 2] {
         let (rim, s, c, here0) = self.start(map, disc);
         let side = |dir: f64| {
             march_from(
@@ -490,7 +502,19 @@ impl SliceWalk {
                 (self.look, self.skip),
             )
         };
-        [side(1.0), side(-1.0)]
+        // (built in place: each walk is some 150 bytes)
+        [
+            if wanted[0] { side(1.0) } else { None },
+            if wanted[1] { side(-1.0) } else { None },
+        ]
+    }
+
+    /// Which sides (`[+1, -1]`) of the circle drive into the rock anywhere
+    /// within their reach, for the surface element `e` on it.
+    fn sides_driving(&self, e: &Element) -> [bool; 2] {
+        let d = e.driving();
+        let (t0, r) = (self.theta0, self.reach);
+        [(t0, t0 + r), (t0 - r, t0)].map(|(lo, hi)| e.driving_parts_on(d, lo, hi).1 > 0)
     }
 
     /// Whether [`SliceWalk::march_both`] finds a contact on either side
@@ -1383,7 +1407,22 @@ pub fn contact(
         let Some(w) = SliceWalk::below(disc, (c.y, c.radius), z_top, walk) else {
             continue;
         };
-        *pair = w.march_both(map, disc);
+        // a moving disc loads only the driving parts of its arcs: the side of
+        // a face circle (ring or flank band) that drives nowhere within its
+        // reach carries nothing and is not walked, once the rim touches (so
+        // that the disc is in contact whatever the faces find). On a gauge
+        // disc turning on its track, one side of each ring (its side face
+        // turns into the wall ahead and away from it behind).
+        *pair = if c.face != 0.0 && motion.moving >= 1.0 && rim_touches && !num.walk_every_side {
+            let e = if c.flank {
+                Element::flank(disc, c.y, c.width, &motion)
+            } else {
+                Element::ring(disc, c.face, c.radius, c.width, &motion)
+            };
+            w.march_sides(map, disc, w.sides_driving(&e))
+        } else {
+            w.march_both(map, disc)
+        };
         rim_touches |= c.face == 0.0 && pair.iter().any(Option::is_some);
     }
     // the rim slices as the part of their strip that touches the rock

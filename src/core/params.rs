@@ -157,6 +157,13 @@ pub struct Numerics {
     /// the same bit for bit). Not an FMU parameter: a switch for the tests
     /// that hold the two equal.
     pub search_every_sample: bool,
+    /// Walk both sides of every side-face ring and flank band (`false`, the
+    /// default: on a disc moving faster than the law's rest speed, once the
+    /// rim touches, a side whose whole reach drives into the rock nowhere is
+    /// not walked, as its arcs would carry nothing; see
+    /// `contact_cutter_heightmap::contact`). Not an FMU parameter: a switch
+    /// for the tests that hold the two equal.
+    pub walk_every_side: bool,
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -237,6 +244,7 @@ impl Default for Numerics {
             cut_ahead: false,
             cut_behind: false,
             search_every_sample: false,
+            walk_every_side: false,
         }
     }
 }

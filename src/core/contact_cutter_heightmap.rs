@@ -512,6 +512,13 @@ impl SliceWalk {
     /// Which sides (`[+1, -1]`) of the circle drive into the rock anywhere
     /// within their reach, for the surface element `e` on it.
     fn sides_driving(&self, e: &Element) -> [bool; 2] {
+        // both sides hold the lowest point: where that drives, both do (the
+        // usual case, checked before the closed form's atan2 and acos)
+        let (a, b, c) = e.vn;
+        let (s0, c0) = self.theta0.sin_cos();
+        if a * s0 + b * c0 + c > e.vn_eps {
+            return [true; 2];
+        }
         let d = e.driving();
         let (t0, r) = (self.theta0, self.reach);
         [(t0, t0 + r), (t0 - r, t0)].map(|(lo, hi)| e.driving_parts_on(d, lo, hi).1 > 0)

@@ -238,7 +238,13 @@ def scene_markdown(summary, data, L):
         f"{fn * R_DISC / 1e3:.2f} kN·m). The errors are signed (1 mm minus reference); no column "
         "is a norm of several components. **fast − oracle**: the cutting force (friction left "
         "out) of the fast contact minus the brute-force oracle's (`Model::contact_brute`, "
-        "0.05 mm arc steps, 101 slices) at one pose inside the window, same 1 mm map, % of F_N.\n"
+        "0.05 mm arc steps, 101 slices) at one pose inside the window, same 1 mm map, % of F_N. "
+        "(The reference is converged in the cell size, not in the side-face rings: they are "
+        "spaced half a cell apart, at most 24 a face (`MAX_RINGS`), so at 0.25 mm the gauge "
+        "scene's 7.2 mm band of face gets 24 rings 0.3 mm apart rather than 58. Without that "
+        "cap its reference moves by -0.03 / -0.01 / +0.11 kN (N / R / S), and the gauge row's "
+        "1 mm errors would read -0.00 / +0.04 / -0.13 % (M_x -0.12 %) instead; measured with "
+        "MAX_RINGS = 200.)\n"
     )
     coarse = sorted((c for c in summary[0]["cells"] if c != 1.0 and c != ref_cell), reverse=True)
     hdr = ("| scene | F_N | F_R | F_S [kN] | ΔF_N | ΔF_R | ΔF_S | ΔM_x | ΔM_y | ΔM_z [%] | "

@@ -157,10 +157,11 @@ pub struct Numerics {
     /// the same bit for bit). Not an FMU parameter: a switch for the tests
     /// that hold the two equal.
     pub search_every_sample: bool,
-    /// Walk both sides of every side-face ring and flank band (`false`, the
-    /// default: on a disc moving faster than the law's rest speed, once the
-    /// rim touches, a side whose whole reach drives into the rock nowhere is
-    /// not walked, as its arcs would carry nothing; see
+    /// Walk both sides of every circle of the disc's surface (`false`, the
+    /// default: on a disc moving faster than the law's rest speed, a side
+    /// that drives into the rock over no more than a sliver of its reach
+    /// carries no load and is not walked, once the other side has found
+    /// its arc (a rim slice) or the rim touches (a face circle); see
     /// `contact_cutter_heightmap::contact`). Not an FMU parameter: a switch
     /// for the tests that hold the two equal.
     pub walk_every_side: bool,

@@ -1447,14 +1447,12 @@ pub fn contact(
             Element::ring(disc, c.face, c.radius, c.width, &motion)
         };
         let d = w.sides_driving(&e, DRIVE_SLIVER_CELLS * look / c.radius);
-        let pair = if every || d[0] == d[1] {
+        let pair = if every || (c.face != 0.0 && !rim_touches) {
             w.march_both(map, disc)
         } else if c.face != 0.0 {
-            if rim_touches {
-                w.march_sides(map, disc, d)
-            } else {
-                w.march_both(map, disc)
-            }
+            w.march_sides(map, disc, d)
+        } else if d[0] == d[1] {
+            w.march_both(map, disc)
         } else {
             let first = usize::from(!d[0]);
             let mut p = w.march_sides(map, disc, d);

@@ -1290,6 +1290,17 @@ impl Circle {
     fn is_ring(&self) -> bool {
         self.face != 0.0 && !self.flank
     }
+
+    /// The surface element of the law on this circle.
+    fn element(&self, disc: &PosedDisc, motion: &Motion) -> Element {
+        if self.face == 0.0 {
+            Element::rim(disc, self.y, self.width, motion)
+        } else if self.flank {
+            Element::flank(disc, self.y, self.width, motion)
+        } else {
+            Element::ring(disc, self.face, self.radius, self.width, motion)
+        }
+    }
 }
 
 /// The circles of the disc's surface the query walks: the `n` rim slices,
@@ -1439,13 +1450,7 @@ pub fn contact(
         if motion.moving < 1.0 {
             return (w.march_both(map, disc), [true; 2]);
         }
-        let e = if c.face == 0.0 {
-            Element::rim(disc, c.y, c.width, &motion)
-        } else if c.flank {
-            Element::flank(disc, c.y, c.width, &motion)
-        } else {
-            Element::ring(disc, c.face, c.radius, c.width, &motion)
-        };
+        let e = c.element(disc, &motion);
         let d = w.sides_driving(&e, DRIVE_SLIVER_CELLS * look / c.radius);
         let pair = if every || (c.face != 0.0 && !rim_touches) {
             w.march_both(map, disc)
@@ -1658,13 +1663,7 @@ pub fn contact(
                 sub_arcs[ci - n_main][s] = Some(arc);
             }
             let (e, driving) = *element.get_or_insert_with(|| {
-                let e = if c.face == 0.0 {
-                    Element::rim(disc, c.y, c.width, &motion)
-                } else if c.flank {
-                    Element::flank(disc, c.y, c.width, &motion)
-                } else {
-                    Element::ring(disc, c.face, c.radius, c.width, &motion)
-                };
+                let e = c.element(disc, &motion);
                 (e, e.driving())
             });
             let (t0, t1, far_hi, sc01) = if arc.b >= arc.a {

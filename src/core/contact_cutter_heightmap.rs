@@ -41,7 +41,7 @@
 use nalgebra::Vector3;
 
 use super::contact_law::{
-    arc_load_in, face_weight, pressure_level, smoothstep, Element, Load, Motion,
+    arc_load_in, face_weight, pressure_level, smoothstep, Driving, Element, Load, Motion,
 };
 use super::csm::{contact_angle, CsmLaw};
 use super::cutter::{wrap, PosedDisc};
@@ -318,6 +318,18 @@ pub struct Walk {
 /// A finished arc with `sin_cos` of its `a` and `b`.
 type Finished = (Arc, [(f64, f64); 2]);
 
+/// A circle as walked: its walks on both sides, which sides may carry load,
+/// and where its surface drives (`None`: not found, the disc below the
+/// rest speed or the circle out of reach).
+type Walked = ([Option<Walk>; 2], [bool; 2], Option<Driving>);
+
+/// Every circle's [`Walked`], as three arrays.
+type WalkedCircles<'a> = (
+    &'a mut [[Option<Walk>; 2]],
+    &'a mut [[bool; 2]],
+    &'a mut [Option<Driving>],
+);
+
 /// World heights of a walk's rim at its start `a`, at its last sample
 /// inside `b_in`, and at the far end of its end's bracket (`b_out`, else
 /// `b_in`): what the depth bounds and the unrefined ends read, once; with
@@ -510,10 +522,10 @@ impl SliceWalk {
     }
 
     /// Which sides (`[+1, -1]`) of the circle drive into the rock within
-    /// their reach, for the surface element `e` on it, over more than
-    /// `sliver` rad in all ([`DRIVE_SLIVER_CELLS`]).
-    fn sides_driving(&self, e: &Element, sliver: f64) -> [bool; 2] {
-        let d = e.driving();
+    /// their reach, for the surface element `e` on it (`d` its
+    /// [`Element::driving`]), over more than `sliver` rad in all
+    /// ([`DRIVE_SLIVER_CELLS`]).
+    fn sides_driving(&self, e: &Element, d: Driving, sliver: f64) -> [bool; 2] {
         let (t0, r) = (self.theta0, self.reach);
         [(t0, t0 + r), (t0 - r, t0)].map(|(lo, hi)| {
             let (parts, np) = e.driving_parts_on(d, lo, hi);
@@ -1118,11 +1130,11 @@ const UNEVEN_DEPTH: f64 = 0.3e-3;
 #[allow(clippy::too_many_arguments)]
 fn split_in_thirds(
     circles: &mut [Circle],
-    (walks, drives): (&mut [[Option<Walk>; 2]], &mut [[bool; 2]]),
+    (walks, drives, drivings): WalkedCircles<'_>,
     nc: &mut usize,
     (k, yk, w): (usize, f64, f64),
     s: f64,
-    walk_at: &dyn Fn(f64) -> ([Option<Walk>; 2], [bool; 2]),
+    walk_at: &dyn Fn(f64) -> Walked,
     disc: &PosedDisc,
 ) {
     circles[k].width = w * (1.0 - 2.0 * s / 3.0);
@@ -1136,7 +1148,7 @@ fn split_in_thirds(
             flank: false,
             sub: true,
         };
-        (walks[*nc], drives[*nc]) = walk_at(y);
+        (walks[*nc], drives[*nc], drivings[*nc]) = walk_at(y);
         *nc += 1;
     }
 }
@@ -1443,15 +1455,19 @@ pub fn contact(
     //   face turns into the wall ahead and away from it behind).
     let mut drives = [[true; 2]; MAX_CIRCLES];
     let every = num.walk_every_side;
-    let walk_circle = |c: &Circle, rim_touches: bool| -> ([Option<Walk>; 2], [bool; 2]) {
+    // (with each circle's `Element::driving` where it was found, which the
+    // loads read again)
+    let mut drivings = [None::<Driving>; MAX_CIRCLES];
+    let walk_circle = |c: &Circle, rim_touches: bool| -> Walked {
         let Some(w) = SliceWalk::below(disc, (c.y, c.radius), z_top, walk) else {
-            return ([None, None], [true; 2]);
+            return ([None, None], [true; 2], None);
         };
         if motion.moving < 1.0 {
-            return (w.march_both(map, disc), [true; 2]);
+            return (w.march_both(map, disc), [true; 2], None);
         }
         let e = c.element(disc, &motion);
-        let d = w.sides_driving(&e, DRIVE_SLIVER_CELLS * look / c.radius);
+        let driving = e.driving();
+        let d = w.sides_driving(&e, driving, DRIVE_SLIVER_CELLS * look / c.radius);
         let pair = if every || (c.face != 0.0 && !rim_touches) {
             w.march_both(map, disc)
         } else if c.face != 0.0 {
@@ -1466,14 +1482,14 @@ pub fn contact(
             }
             p
         };
-        (pair, d)
+        (pair, d, Some(driving))
     };
     let mut rim_touches = false;
     for (ci, c) in circles[..nc].iter().enumerate() {
         if ring_idle(c) && rim_touches {
             continue;
         }
-        (walks[ci], drives[ci]) = walk_circle(c, rim_touches);
+        (walks[ci], drives[ci], drivings[ci]) = walk_circle(c, rim_touches);
         rim_touches |= c.face == 0.0 && walks[ci].iter().any(Option::is_some);
     }
     // the rim slices as the part of their strip that touches the rock
@@ -1521,10 +1537,10 @@ pub fn contact(
             circles[k].y = y;
             circles[k].radius = disc.rho(y);
             circles[k].width = width;
-            (walks[k], drives[k]) = if width > 0.0 {
+            (walks[k], drives[k], drivings[k]) = if width > 0.0 {
                 walk_at(y)
             } else {
-                ([None, None], [true; 2])
+                ([None, None], [true; 2], None)
             };
         }
     }
@@ -1542,7 +1558,7 @@ pub fn contact(
         let yk = slice_y(h, n, k);
         split_in_thirds(
             &mut circles,
-            (&mut walks, &mut drives),
+            (&mut walks, &mut drives, &mut drivings),
             &mut nc,
             (k, yk, w_strip),
             sm,
@@ -1622,7 +1638,7 @@ pub fn contact(
             let su = m * smoothstep((dev - lo) / lo);
             if su > 0.0 && nc + 2 <= n_main + MAX_SUB {
                 let strip = (k, circles[k].y, circles[k].width);
-                let walked = (&mut walks[..], &mut drives[..]);
+                let walked = (&mut walks[..], &mut drives[..], &mut drivings[..]);
                 split_in_thirds(&mut circles, walked, &mut nc, strip, su, &walk_at, disc);
             }
         }
@@ -1664,7 +1680,7 @@ pub fn contact(
             }
             let (e, driving) = *element.get_or_insert_with(|| {
                 let e = c.element(disc, &motion);
-                (e, e.driving())
+                (e, drivings[ci].unwrap_or_else(|| e.driving()))
             });
             let (t0, t1, far_hi, sc01) = if arc.b >= arc.a {
                 (arc.a, arc.b, true, (sc[0], sc[1]))

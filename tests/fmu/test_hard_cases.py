@@ -228,6 +228,12 @@ def test_deep_penetration_20mm_past_the_tip_profile_follows_csm(fmu, kind):
         f"groove cross-section {rate * 1e6:.2f} mm2 vs tip profile {area * 1e6:.2f} mm2"
 
 
+def segment_area(radius, h):
+    """Area of the segment of height h (0 <= h <= 2 radius) cut off a circle."""
+    return (radius * radius * math.acos(1 - h / radius)
+            - (radius - h) * math.sqrt(max(2 * radius * h - h * h, 0.0)))
+
+
 def side_face_segment_area(roll, depth_low, R=R, T=T, r=kh.REFERENCE["r"]):
     """Area of the lower side face (local y = -T/2, a disc of radius rho_edge) of
     a disc with roll `roll` below the plane z = 0, when the face's lowest point
@@ -236,8 +242,7 @@ def side_face_segment_area(roll, depth_low, R=R, T=T, r=kh.REFERENCE["r"]):
     rho = R - r + math.sqrt(r * r - (T / 2) ** 2)
     if depth_low <= 0:
         return 0.0
-    h = min(depth_low / math.cos(roll), 2 * rho)
-    return rho * rho * math.acos(1 - h / rho) - (rho - h) * math.sqrt(max(2 * rho * h - h * h, 0.0))
+    return segment_area(rho, min(depth_low / math.cos(roll), 2 * rho))
 
 
 def face_depth(pose):
@@ -385,12 +390,6 @@ def test_rolling_backwards_mirrors_rolling_forwards(fmu, kind):
     assert np.all(np.diff(res["cuttingEnergy"]) >= 0)
 
 
-def rim_segment_area(p, R=R):
-    """Area of the disc's cross-section (in its own plane) below a flat face it
-    is `p` deep in: the rim circle's segment of height p."""
-    return R * R * math.acos((R - p) / R) - (R - p) * math.sqrt(2 * R * p - p * p)
-
-
 @pytest.mark.parametrize("kind", KINDS)
 def test_sliding_sideways_cuts_a_trench_against_friction_and_the_wall(fmu, kind):
     """vy = 0.1 m/s with wy = 0 (a skidding cutter), 3.8 mm deep at x = 0.5.
@@ -407,7 +406,7 @@ def test_sliding_sideways_cuts_a_trench_against_friction_and_the_wall(fmu, kind)
     res = u.run(kind, fmu, ks, H)
     check_history(res, f"{kind} sideways")
     fn, fs = res["normalForce"], res["sideForce"]
-    area = rim_segment_area(P_REF)
+    area = segment_area(R, P_REF)  # the disc's cross-section below the face
     assert np.all(fs < -MU * fn)
     assert np.all(fs > -(MU * fn + P_PRIME * area))
     assert np.all(res["Fy"] < 0)

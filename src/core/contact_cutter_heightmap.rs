@@ -1617,14 +1617,16 @@ pub fn contact(
         *a = finish_pair(&walks[k], drives[k]);
     }
     if m > 0.0 && n >= 3 {
-        // (the slices' sides as walked: the strips split below add circles)
-        let slice_drives = drives;
-        let d = |k: usize| {
-            (0..2)
-                .filter(|&s| slice_drives[k][s])
+        // each slice's deepest loaded arc, found once (the strips split
+        // below add circles, not slices)
+        let mut depths = [0.0f64; 101];
+        for (k, dk) in depths.iter_mut().enumerate().take(n) {
+            *dk = (0..2)
+                .filter(|&s| drives[k][s])
                 .filter_map(|s| slice_arcs[k][s].map(|(a, _)| a.depth))
-                .fold(0.0, f64::max)
-        };
+                .fold(0.0, f64::max);
+        }
+        let d = |k: usize| depths[k];
         let profile = |k: usize| disc.radius - disc.rho(slice_y(h, n, k));
         for k in 1..n - 1 {
             // (a slice carrying part of its strip at a wall splits that part)

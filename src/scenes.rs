@@ -351,8 +351,16 @@ impl Plan {
         for (t, len) in first {
             roll(&mut m, t.as_ref(), *len, 1e-3, 0.0, 0.0);
         }
-        roll(&mut m, last.0.as_ref(), last.1, 1e-3, WINDOW.0, WINDOW.1)
+        measured_pass(&mut m, last.0.as_ref(), last.1)
     }
+}
+
+/// The measured pass of [`Plan::run`], a function of its own so that a
+/// profile can take it alone:
+/// `valgrind --tool=callgrind --toggle-collect='*measured_pass*' target/release/examples/scene_cost beside 2`.
+#[inline(never)]
+fn measured_pass(m: &mut Model, track: &dyn Track, length: f64) -> Mean {
+    roll(m, track, length, 1e-3, WINDOW.0, WINDOW.1)
 }
 
 /// A fresh straight cut `depth` deep, rolled by `roll` (0 = upright).

@@ -143,6 +143,15 @@ impl RimCircle {
     /// [`advance_by`], and tells whether every rim point on the way is
     /// above every node of the cells under those points (by more than
     /// round-off): then none is inside the rock.
+    ///
+    /// The points are bounded from the run's first and last alone: each
+    /// world coordinate of the rim is a sinusoid of the angle, `M cos(t -
+    /// tm) + C`, which over `dt` strays at most `M (1 - cos(dt / 2)) <= M
+    /// dt^2 / 8` beyond the larger of its ends (and below the smaller), and
+    /// the height rises monotonically away from the lowest point, where
+    /// every walk starts, so the first point is the lowest (a walk reaches
+    /// half a turn at most). Reading every point cost a fifth of a contact
+    /// beside an old groove.
     fn out_of_rock(
         &self,
         map: &HeightMap,
@@ -151,37 +160,36 @@ impl RimCircle {
         (sd, cd): (f64, f64),
         n: usize,
     ) -> bool {
-        let (mut x0, mut x1, mut y0, mut y1) = (
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-        );
-        let mut z_min = f64::INFINITY;
-        for _ in 0..n {
+        advance_by(s, c, sd, cd);
+        let first = self.point(*s, *c);
+        for _ in 1..n {
             advance_by(s, c, sd, cd);
-            let p = self.point(*s, *c);
-            // (plain comparisons: no NaN reaches here, and `f64::min` costs
-            // more)
-            if p.z < z_min {
-                z_min = p.z;
-            }
-            if p.x < x0 {
-                x0 = p.x;
-            }
-            if p.x > x1 {
-                x1 = p.x;
-            }
-            if p.y < y0 {
-                y0 = p.y;
-            }
-            if p.y > y1 {
-                y1 = p.y;
-            }
         }
+        let last = self.point(*s, *c);
+        // (`tan` of the step bounds the step, which is well below a
+        // quarter turn; the points themselves carry the recurrence's
+        // round-off, far below `OUT_OF_ROCK_PAD`)
+        let span = (n - 1) as f64 * sd.abs() / cd;
+        let stray = 0.125 * span * span;
+        let pad = |axis: usize| {
+            let m = (self.ex[axis] * self.ex[axis] + self.ez[axis] * self.ez[axis]).sqrt();
+            m * stray + OUT_OF_ROCK_PAD
+        };
+        let (px, py) = (pad(0), pad(1));
+        let (x0, x1) = if first.x < last.x {
+            (first.x, last.x)
+        } else {
+            (last.x, first.x)
+        };
+        let (y0, y1) = if first.y < last.y {
+            (first.y, last.y)
+        } else {
+            (last.y, first.y)
+        };
+        let z_min = if first.z < last.z { first.z } else { last.z };
         // the nodes of every cell a point lies in (a point's cell index
         // grows with its coordinate; off the map the height is `NO_ROCK`)
-        let top = map.highest_node_under(x0, x1, y0, y1);
+        let top = map.highest_node_under(x0 - px, x1 + px, y0 - py, y1 + py);
         // (a height is its nodes' weighted mean to a few ulps)
         top + OUT_OF_ROCK_MARGIN < z_min
     }
@@ -750,10 +758,11 @@ fn find_start(
             // over: a height is a weighted mean of its cell's nodes (the
             // rim grazing an old groove's floor searched its whole reach
             // sample by sample, 40 % of a contact beside a groove)
-            let end = kf + START_RUN - 1;
-            if skip && kf >= next_run && end <= m {
+            // (the last run may be shorter)
+            let end = (kf + START_RUN - 1).min(m);
+            if skip && kf >= next_run {
                 let (mut s1, mut c1) = (sf, cf);
-                if rim.out_of_rock(map, &mut s1, &mut c1, (sdf, cdf), START_RUN) {
+                if rim.out_of_rock(map, &mut s1, &mut c1, (sdf, cdf), end + 1 - kf) {
                     (sf, cf) = (s1, c1);
                     prev = (grid(end), Err((s1, c1)));
                     kf = end + 1;
@@ -773,17 +782,23 @@ fn find_start(
 
 /// Samples of the start search read one by one before the first run is
 /// tested, and after a run that was not passed over before the next is:
-/// where the start is near, a run test is wasted work (set from
-/// `examples/scene_cost beside 2|4` and `examples/head_cost` under
-/// callgrind: 8 and 4 against 16 and 16, 4 and 4, 16 and 4, 8 and 8 and
-/// retrying at every sample).
-const START_FIRST: usize = 8;
-const START_RETRY: usize = 4;
+/// where the start is near, a run test is wasted work. Set from
+/// `examples/scene_cost beside 2|4` (its measured pass alone, callgrind
+/// `--toggle-collect='*measured_pass*'`) and `examples/head_cost` at 2 mm
+/// cells and sweep steps, after the run test came to read only a run's
+/// ends: 2 and 8 against 8 and 4, 4 and 4, 1 and 8 and 2 and 16; runs of
+/// 32 or 64 samples cost the head more than runs of 16.
+const START_FIRST: usize = 2;
+const START_RETRY: usize = 8;
 
 /// How far \[m\] the rim must be above the nodes under it for
 /// [`RimCircle::out_of_rock`] (a computed height may exceed its cell's
 /// highest node by round-off).
 const OUT_OF_ROCK_MARGIN: f64 = 1e-9;
+
+/// How far \[m\] [`RimCircle::out_of_rock`] widens the box of a run's points
+/// beyond its bound of the rim between them.
+const OUT_OF_ROCK_PAD: f64 = 1e-9;
 
 /// Samples of the start search tested as one run by
 /// [`RimCircle::out_of_rock`].
@@ -1799,6 +1814,7 @@ mod tests {
     use crate::core::heightmap::{Grid, HeightMap};
     use crate::core::params::CutterParams;
     use crate::core::{cutter::PosedDisc, Pose};
+    use nalgebra::Vector3;
 
     /// `out_of_rock` passes over a run above the nodes under it, and not
     /// over one with a node above a rim point, nor over one a node
@@ -1835,6 +1851,111 @@ mod tests {
         let rim = RimCircle::new(&far, 0.0, c.radius);
         let (mut s, mut co) = (0.0, 1.0);
         assert!(rim.out_of_rock(&map, &mut s, &mut co, step, 16));
+    }
+
+    /// Brute force holds the run test: on tilted, turned discs, over runs
+    /// of 1 to 32 samples anywhere on the rim's lower half, with a node
+    /// raised to about the height of a rim point of the run, a run
+    /// `out_of_rock` passes over has no sample the rock is over (the start
+    /// search would have found none there).
+    #[test]
+    fn out_of_rock_passes_over_no_sample_inside_the_rock() {
+        let grid = Grid::new(-0.3, 0.3, -0.3, 0.3, 601, 601);
+        let c = CutterParams::default();
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut passed, mut refused, mut bulges) = (0, 0, 0);
+        for _ in 0..40000 {
+            let (roll, yaw) = (1.2 * (2.0 * next() - 1.0), 3.1 * (2.0 * next() - 1.0));
+            let pose = Pose::new(0.0, 0.0, c.radius - 2e-3, roll, 0.0, yaw);
+            let disc = PosedDisc::new(&c, &pose);
+            let y = disc.half_width * (2.0 * next() - 1.0);
+            let rho = disc.rho(y);
+            let Some((theta0, _)) = disc.arc_below(y, rho, 0.5) else {
+                continue;
+            };
+            let rim = RimCircle::new(&disc, y, rho);
+            let dir = if next() < 0.5 { 1.0 } else { -1.0 };
+            let dt = dir * 0.5e-3 / rho;
+            let step = dt.sin_cos();
+            let n = 1 + (next() * 32.0) as usize;
+            // (half the runs straddle the angle where the rim's world x or
+            // y turns, if that lies on the walk's quarter turn: there the
+            // rim bulges beyond its ends)
+            let axis = usize::from(next() < 0.5);
+            let t_turn = rim.ex[axis].atan2(rim.ez[axis]);
+            let off = [t_turn, t_turn + std::f64::consts::PI]
+                .map(|t| super::wrap(t - theta0) * dir)
+                .into_iter()
+                .find(|&o| o > 0.0 && o < std::f64::consts::FRAC_PI_2);
+            let k0 = match off {
+                Some(o) if next() < 0.5 => ((o / dt.abs()) as usize).saturating_sub(n / 2).max(1),
+                _ => 1 + (next() * 60.0) as usize,
+            };
+            // the samples, as the search turns to them
+            let (mut s, mut co) = theta0.sin_cos();
+            for _ in 0..k0 - 1 {
+                super::advance_by(&mut s, &mut co, step.0, step.1);
+            }
+            let (s_run, c_run) = (s, co);
+            let mut pts = Vec::new();
+            for _ in 0..n {
+                super::advance_by(&mut s, &mut co, step.0, step.1);
+                pts.push(rim.point(s, co));
+            }
+            // a node near one sample, raised to about the rim there; or,
+            // where the rim between the run's ends bulges into cells the
+            // box of its ends misses, the nodes of such a cell outside the
+            // nodes of the ends' cells, far over the rim
+            let cell = |p: &Vector3<f64>| grid.cell(p.x, p.y).unwrap();
+            let (a, b) = (cell(&pts[0]), cell(&pts[n - 1]));
+            let cols = a.0.min(b.0)..=a.0.max(b.0) + 1;
+            let rows = a.1.min(b.1)..=a.1.max(b.1) + 1;
+            let nodes = |q: &Vector3<f64>| {
+                let (i, j, _, _) = cell(q);
+                [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
+                    .map(|(i, j)| (!cols.contains(&i) || !rows.contains(&j)).then_some((i, j)))
+            };
+            let outside = pts.iter().find(|q| nodes(q).iter().any(Option::is_some));
+            let mut map;
+            if let Some(q) = outside {
+                bulges += 1;
+                let low = pts.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+                map = HeightMap::flat(grid, low - 1e-6);
+                for (i, j) in nodes(q).into_iter().flatten() {
+                    map.set_node(i, j, q.z + 1.0);
+                }
+            } else {
+                let q = pts[(next() * n as f64) as usize];
+                let (i, j, _, _) = cell(&q);
+                let (i, j) = (i + usize::from(next() < 0.5), j + usize::from(next() < 0.5));
+                map = HeightMap::flat(grid, q.z - 0.05);
+                map.set_node(i, j, q.z + 2e-4 * (2.0 * next() - 1.0));
+            }
+            let (mut s1, mut c1) = (s_run, c_run);
+            if rim.out_of_rock(&map, &mut s1, &mut c1, step, n) {
+                passed += 1;
+                for p in &pts {
+                    assert!(
+                        map.height(p.x, p.y) - p.z <= 0.0,
+                        "roll {roll} yaw {yaw} y {y}"
+                    );
+                }
+            } else {
+                refused += 1;
+            }
+            // (it turns the angle as the search does)
+            assert_eq!((s1, c1), (s, co));
+        }
+        assert!(
+            passed > 5000 && refused > 5000 && bulges > 100,
+            "{passed} passed, {refused} refused, {bulges} bulges"
+        );
     }
 
     #[test]

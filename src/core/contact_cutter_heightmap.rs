@@ -783,12 +783,15 @@ fn find_start(
 /// Samples of the start search read one by one before the first run is
 /// tested, and after a run that was not passed over before the next is:
 /// where the start is near, a run test is wasted work. Set from
-/// `examples/scene_cost beside 2|4` (its measured pass alone, callgrind
-/// `--toggle-collect='*measured_pass*'`) and `examples/head_cost` at 2 mm
-/// cells and sweep steps, after the run test came to read only a run's
-/// ends: 2 and 8 against 8 and 4, 4 and 4, 1 and 8 and 2 and 16; runs of
-/// 32 or 64 samples cost the head more than runs of 16.
-const START_FIRST: usize = 2;
+/// `examples/scene_cost` (its measured pass alone, callgrind
+/// `--toggle-collect='*measured_pass*'`: beside 2 and 4 mm, gauge, tilted
+/// 30 deg) and `examples/head_cost`, after the run test came to read only
+/// a run's ends: 4 and 8 against 8 and 4 (the gauge cutter 0.4 % cheaper,
+/// the passes beside a groove 5-6 % dearer), 2 and 8 (beside a groove 3 %
+/// cheaper, the gauge cutter and the head 1 % and 0.1 % dearer), 4 and 4,
+/// 1 and 8 and 2 and 16; runs of 32 or 64 samples cost the head more than
+/// runs of 16.
+const START_FIRST: usize = 4;
 const START_RETRY: usize = 8;
 
 /// How far \[m\] the rim must be above the nodes under it for

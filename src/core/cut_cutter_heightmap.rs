@@ -96,6 +96,40 @@ impl Front {
     }
 }
 
+impl Front {
+    /// Rows `j0..=j1` of `g` less those the front leaves no point of the
+    /// world box `x` on (by more than 1e-8 m: a row's bounds are found to
+    /// round-off, far within that), which [`Bounds::row`] finds empty;
+    /// `None` when none is left. The front of a disc heading diagonally
+    /// crosses the rows, and half the footprint's rows lie ahead of it: a
+    /// tenth of a cutterhead step found them empty one by one.
+    fn rows_within(&self, g: &Grid, x: [f64; 2], j0: usize, j1: usize) -> Option<(usize, usize)> {
+        let (k, m) = self.dir;
+        // (a front across the rows, `|m|` small, bounds no row)
+        if m.abs() < 1e-3 {
+            return Some((j0, j1));
+        }
+        // the rows on which some x of the box has `k x + m y <= limit`:
+        // `m y <= limit - min(k x)`
+        let bound = (self.limit + 1e-8 - (k * x[0]).min(k * x[1])) / m;
+        let v = (bound - g.y_min) / g.dy;
+        let (j0, j1) = if m > 0.0 {
+            // (below row 0: none; past the last: all)
+            if v < 0.0 {
+                return None;
+            }
+            (j0, j1.min(v.floor().min(usize::MAX as f64) as usize))
+        } else {
+            let first = v.ceil().max(0.0);
+            if first > j1 as f64 {
+                return None;
+            }
+            (j0.max(first as usize), j1)
+        };
+        (j0 <= j1).then_some((j0, j1))
+    }
+}
+
 /// What a rolling disc's cut need not visit behind it: a box in plan
 /// about its heading, from `s[0]` to `s[1]` along the heading `u` from the
 /// disc centre `c`, within `half` of the centre plane across it.
@@ -666,6 +700,7 @@ pub fn node_window(
     };
     let uv = turned.footprint_below(z_top)?;
     let bounds = Bounds::new([bb[0], bb[1]], (c, s), uv, front);
+    let (j0, j1) = front.map_or(Some((j0, j1)), |f| f.rows_within(g, bounds.x, j0, j1))?;
     let rows: Vec<Option<(usize, usize)>> = (j0..=j1).map(|j| bounds.row(g, j)).collect();
     let gaps = match back.map(|b| b.rows()) {
         Some(b) => (j0..=j1)
@@ -888,4 +923,67 @@ pub fn cut_patch(
 pub fn would_cut(map: &HeightMap, disc: &PosedDisc, elastic_depth: f64) -> bool {
     node_window(map, disc, None, None)
         .is_some_and(|w| sweep_nodes(&mut ReadOnly(map), &w, disc, elastic_depth, None).1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Bounds, Front};
+    use crate::core::heightmap::Grid;
+
+    /// The rows a front leaves out ([`Front::rows_within`]) are rows the
+    /// window's own bounds find empty, for fronts in every direction
+    /// (including along and across the grid) and heading boxes turned
+    /// every way, and a front does leave rows out.
+    #[test]
+    fn rows_a_front_leaves_out_hold_no_node() {
+        let g = Grid::new(-0.3, 0.3, -0.3, 0.3, 601, 601);
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut left_out, mut cases) = (0usize, 0usize);
+        for case in 0..20000 {
+            // headings and fronts on and near the grid's axes too
+            let pick = |r: f64, k: usize| match case % 4 {
+                0 => std::f64::consts::FRAC_PI_2 * (k as f64) + 1e-13 * (r - 0.5),
+                _ => 2.0 * std::f64::consts::PI * r,
+            };
+            let heading = pick(next(), case % 4);
+            let travel = heading + 0.3 * (next() - 0.5);
+            let (s, c) = heading.sin_cos();
+            let (cx, cy) = (0.2 * (next() - 0.5), 0.2 * (next() - 0.5));
+            let (uc, vc) = (cx * c + cy * s, -cx * s + cy * c);
+            let (len, half) = (0.02 + 0.06 * next(), 0.003 + 0.01 * next());
+            let uv = [uc - len, uc + len, vc - half, vc + half];
+            let reach = len.hypot(half);
+            let x = [cx - reach * next(), cx + reach * next()];
+            let dir = (travel.cos(), travel.sin());
+            let limit = cx * dir.0 + cy * dir.1 + 0.004 * (next() - 0.3);
+            let front = Front { dir, limit };
+            let bounds = Bounds::new(x, (c, s), uv, Some(front));
+            let (j0, j1) = g
+                .node_range(x[0], x[1], cy - reach, cy + reach)
+                .map(|r| (r.2, r.3))
+                .unwrap();
+            let kept = front.rows_within(&g, x, j0, j1);
+            for j in j0..=j1 {
+                let inside = kept.is_some_and(|(a, b)| (a..=b).contains(&j));
+                if !inside {
+                    left_out += 1;
+                    assert!(
+                        bounds.row(&g, j).is_none(),
+                        "case {case}: row {j} holds nodes"
+                    );
+                }
+            }
+            cases += 1;
+        }
+        assert!(
+            left_out > 10 * cases,
+            "{left_out} rows left out in {cases} cases"
+        );
+    }
 }

@@ -1,0 +1,101 @@
+#!/usr/bin/env python3
+"""Instructions a step under callgrind: the measure the README and docs/head.md
+quote for speed changes (instruction counts do not depend on the machine's
+load; wall time here does).
+
+Build the examples first, with LTO as the FMU is built:
+    cargo build --release --example scene_cost --example head_cost
+
+    tools/instr_per_step.py scene straight "beside 2" "gauge"
+        the measured pass of each `kerf::scenes` scene alone
+        (`--toggle-collect='*measured_pass*'`, 151 commits of 1 mm): the
+        whole pass per step, and commit + evaluation per step (the inclusive
+        cost of `disc::book_end` and `Disc::cut_at`, what a host's step pays;
+        the pass also finds the contact again for the report's cutting force)
+    tools/instr_per_step.py head [--fast]
+        the reference head from the steady start at 1 kHz on one thread:
+        (12 steps - 2 steps) / 10; --fast at 2 mm cells and sweep steps
+
+Needs valgrind (callgrind_annotate). Takes about 20 s a scene, 2 min for the
+head.
+"""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+TARGET = os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target"))
+STEPS = 150
+
+
+def callgrind(args, out, toggle=None, env=None):
+    cmd = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}"]
+    if toggle:
+        cmd.append(f"--toggle-collect={toggle}")
+    subprocess.run(cmd + args, check=True, cwd=ROOT, env=env,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def annotate(out, inclusive=False):
+    args = ["callgrind_annotate", "--threshold=100", "--auto=no"]
+    if inclusive:
+        args.append("--inclusive=yes")
+    return subprocess.run(args + [out], capture_output=True, text=True, check=True).stdout
+
+
+def total(text):
+    m = re.search(r"([\d,]+) \(100\.0%\)\s+PROGRAM TOTALS", text)
+    return int(m.group(1).replace(",", ""))
+
+
+def step_cost(text):
+    """Inclusive instructions of disc::book_end and Disc::cut_at, each
+    function's own entry (`file:function [binary]`)."""
+    n = 0
+    for line in text.splitlines():
+        m = re.match(r"\s*([\d,]+) \(.*\)\s+\S*src/core/disc\.rs:"
+                     r"kerf::core::disc::(book_end|Disc::cut_at) \[", line)
+        if m:
+            n += int(m.group(1).replace(",", ""))
+    return n
+
+
+def scenes(names):
+    binary = os.path.join(TARGET, "release", "examples", "scene_cost")
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in names:
+            out = os.path.join(tmp, "cg.out")
+            callgrind([binary] + name.split(), out, toggle="*measured_pass*")
+            text = annotate(out, inclusive=True)
+            print(f"{name}: pass {total(text) / STEPS / 1e3:.1f} k a step, "
+                  f"commit + evaluation {step_cost(text) / STEPS / 1e3:.1f} k a step")
+
+
+def head(fast):
+    binary = os.path.join(TARGET, "release", "examples", "head_cost")
+    extra = ["2e-3", "2e-3"] if fast else []
+    env = dict(os.environ, RAYON_NUM_THREADS="1")
+    counts = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in (2, 12):
+            out = os.path.join(tmp, f"cg.{n}")
+            callgrind([binary, "layouts/reference-9.72m.json", "1e-3", str(n), "3", "0.006"]
+                      + extra, out, env=env)
+            counts[n] = total(annotate(out))
+    per = (counts[12] - counts[2]) / 10
+    print(f"reference head{' (fast setting)' if fast else ''}: {per / 1e6:.2f} M a step")
+
+
+def main():
+    if len(sys.argv) >= 3 and sys.argv[1] == "scene":
+        scenes(sys.argv[2:])
+    elif len(sys.argv) >= 2 and sys.argv[1] == "head":
+        head("--fast" in sys.argv[2:])
+    else:
+        sys.exit(__doc__)
+
+
+if __name__ == "__main__":
+    main()

@@ -94,9 +94,7 @@ impl Front {
             limit: low.x * dir.0 + low.y * dir.1 + ahead,
         })
     }
-}
 
-impl Front {
     /// Rows `j0..=j1` of `g` less those the front leaves no point of the
     /// world box `x` on (by more than 1e-8 m: a row's bounds are found to
     /// round-off, far within that), which [`Bounds::row`] finds empty;
@@ -946,13 +944,16 @@ mod tests {
         };
         let (mut left_out, mut cases) = (0usize, 0usize);
         for case in 0..20000 {
-            // headings and fronts on and near the grid's axes too
-            let pick = |r: f64, k: usize| match case % 4 {
-                0 => std::f64::consts::FRAC_PI_2 * (k as f64) + 1e-13 * (r - 0.5),
-                _ => 2.0 * std::f64::consts::PI * r,
+            // a quarter of the headings and fronts on the grid's axes (to
+            // round-off), the rest anywhere
+            let (heading, travel) = if case % 4 == 0 {
+                let axis = std::f64::consts::FRAC_PI_2 * ((case / 4) % 4) as f64;
+                let h = axis + 1e-13 * (next() - 0.5);
+                (h, h + 1e-13 * (next() - 0.5))
+            } else {
+                let h = 2.0 * std::f64::consts::PI * next();
+                (h, h + 0.3 * (next() - 0.5))
             };
-            let heading = pick(next(), case % 4);
-            let travel = heading + 0.3 * (next() - 0.5);
             let (s, c) = heading.sin_cos();
             let (cx, cy) = (0.2 * (next() - 0.5), 0.2 * (next() - 0.5));
             let (uc, vc) = (cx * c + cy * s, -cx * s + cy * c);

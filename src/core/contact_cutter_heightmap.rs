@@ -1865,13 +1865,7 @@ mod tests {
     fn out_of_rock_passes_over_no_sample_inside_the_rock() {
         let grid = Grid::new(-0.3, 0.3, -0.3, 0.3, 601, 601);
         let c = CutterParams::default();
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::core::uniforms(0x2545_f491_4f6c_dd1d_u64);
         let (mut passed, mut refused, mut bulges) = (0, 0, 0);
         for _ in 0..40000 {
             let (roll, yaw) = (1.2 * (2.0 * next() - 1.0), 3.1 * (2.0 * next() - 1.0));

@@ -935,13 +935,7 @@ mod tests {
     #[test]
     fn rows_a_front_leaves_out_hold_no_node() {
         let g = Grid::new(-0.3, 0.3, -0.3, 0.3, 601, 601);
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::core::uniforms(0x9e37_79b9_7f4a_7c15_u64);
         let (mut left_out, mut cases) = (0usize, 0usize);
         for case in 0..20000 {
             // a quarter of the headings and fronts on the grid's axes (to

@@ -41,3 +41,15 @@ pub mod cut_cutter_heightmap;
 pub mod cutter;
 pub mod heightmap;
 pub mod rsf;
+
+/// Uniform numbers in [0, 1) from `seed` (xorshift64), for tests that
+/// sample many cases and must draw the same ones every run.
+#[cfg(test)]
+pub(crate) fn uniforms(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}

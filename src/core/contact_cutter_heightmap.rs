@@ -508,8 +508,46 @@ impl SliceWalk {
         disc: &PosedDisc,
         wanted: [bool; 2],
     ) -> [Option<Walk>; 2] {
+        let side = self.sides(map, disc);
+        // (built in place: each walk is some 150 bytes)
+        [
+            if wanted[0] { side(1.0) } else { None },
+            if wanted[1] { side(-1.0) } else { None },
+        ]
+    }
+
+    /// [`SliceWalk::march_sides`] on the side `drive` marks alone, and on
+    /// the other side too where that one finds no arc (so that whether the
+    /// slice touches stays as walking both sides finds it); `drive` marks
+    /// one side. The start is read once for both.
+    #[inline(always)]
+    fn march_driving_first(
+        &self,
+        map: &HeightMap,
+        disc: &PosedDisc,
+        drive: [bool; 2],
+    ) -> [Option<Walk>; 2] {
+        let side = self.sides(map, disc);
+        let first = usize::from(!drive[0]);
+        let dir = |k: usize| if k == 0 { 1.0 } else { -1.0 };
+        let mut pair = [None, None];
+        pair[first] = side(dir(first));
+        if pair[first].is_none() {
+            pair[1 - first] = side(dir(1 - first));
+        }
+        pair
+    }
+
+    /// The march of one side (`dir`) of the circle, the circle, its lowest
+    /// point's sine and cosine and the rock over it read once for both.
+    #[inline(always)]
+    fn sides<'a>(
+        &'a self,
+        map: &'a HeightMap,
+        disc: &PosedDisc,
+    ) -> impl Fn(f64) -> Option<Walk> + 'a {
         let (rim, s, c, here0) = self.start(map, disc);
-        let side = |dir: f64| {
+        move |dir: f64| {
             march_from(
                 map,
                 &rim,
@@ -521,12 +559,7 @@ impl SliceWalk {
                 self.step,
                 (self.look, self.skip),
             )
-        };
-        // (built in place: each walk is some 150 bytes)
-        [
-            if wanted[0] { side(1.0) } else { None },
-            if wanted[1] { side(-1.0) } else { None },
-        ]
+        }
     }
 
     /// Which sides (`[+1, -1]`) of the circle drive into the rock within
@@ -1493,12 +1526,7 @@ pub fn contact(
         } else if d[0] == d[1] {
             w.march_both(map, disc)
         } else {
-            let first = usize::from(!d[0]);
-            let mut p = w.march_sides(map, disc, d);
-            if p[first].is_none() {
-                p[1 - first] = w.march_sides(map, disc, [!d[0], !d[1]])[1 - first];
-            }
-            p
+            w.march_driving_first(map, disc, d)
         };
         (pair, d, Some(driving))
     };

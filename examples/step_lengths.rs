@@ -48,10 +48,10 @@ fn main() {
         }
     }
     // the plunge speed [m/s] (argument; 20 mm/s by default), 1 ms steps
-    let v: f64 = std::env::args()
-        .nth(1)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(0.02);
+    let v: f64 = std::env::args().nth(1).map_or(0.02, |a| {
+        a.parse()
+            .expect("the argument is the plunge speed in m/s, e.g. 0.002")
+    });
     let p = Params::default();
     let r = p.cutter.radius;
     let tw = Twist::new([0.0, 0.0, -v], [0.0; 3]);

@@ -161,10 +161,19 @@ fn indicator_is_sweep_step_minus_travel_and_reading_it_changes_nothing() {
     }
     // reading the indicator (and the outputs) committed nothing
     assert_eq!(fmu.real(vr::EXCAVATED_VOLUME), v0);
-    // a turn of the disc's frame counts as the rim's travel (angle times R)
-    assert_eq!(fmu.set_reals(&[vr::X, vr::YAW], &[0.0, 2e-3]), OK);
+    // a turn of the disc's frame counts as the travel of the rim in the
+    // rock: a tilt as the angle times R; a yaw as the angle times the reach
+    // of the part below the face (z0 = 0) from the vertical through the
+    // centre, sqrt(reach^2 - z^2) with reach = hypot(R, T/2)
+    assert_eq!(fmu.set_reals(&[vr::X, vr::ROLL], &[0.0, 2e-3]), OK);
     let z = indicator(&fmu);
-    assert!((z - (SWEEP - 2e-3 * R)).abs() < 1e-15, "turn: {z}");
+    assert!((z - (SWEEP - 2e-3 * R)).abs() < 1e-15, "tilt: {z}");
+    assert_eq!(fmu.set_reals(&[vr::ROLL, vr::YAW], &[0.0, 2e-3]), OK);
+    let zc = fmu.real(vr::Z);
+    let lever = (R * R + 0.0065f64.powi(2) - zc * zc).sqrt();
+    assert!(lever > 0.03 && lever < 0.05, "{lever}");
+    let z = indicator(&fmu);
+    assert!((z - (SWEEP - 2e-3 * lever)).abs() < 1e-15, "yaw: {z}");
     assert_eq!(fmu.set_reals(&[vr::X, vr::YAW], &[0.0, 0.0]), OK);
 
     // the wrong count is an error and writes nothing

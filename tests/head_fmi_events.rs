@@ -19,6 +19,17 @@ const TRACKS: [f64; 2] = [0.1, 0.2];
 const W: f64 = 1.0; // head turn rate [rad/s]
 const P_REV: f64 = 0.006; // advance per revolution [m]
 
+/// The lever of the head's turn (about the vertical) on a disc whose
+/// centre stands `h` above the face's top: the reach of its part in the
+/// rock from the vertical through the centre, `sqrt(reach^2 - h^2)` with
+/// `reach = hypot(R, T/2)` (`kerf::core::RimReach`). A face disc with
+/// setback 0 touches the top at t = 0: `h = R` then, and the head's advance
+/// lowers it.
+fn lever(t: f64) -> f64 {
+    let h = R - P_REV * W / (2.0 * std::f64::consts::PI) * t;
+    (R * R + 0.0065f64.powi(2) - h * h).sqrt()
+}
+
 fn layout_json() -> String {
     format!(
         r#"{{"name": "events", "description": "two discs",
@@ -121,22 +132,25 @@ fn indicator_is_sweep_step_minus_the_largest_rim_travel_and_reading_it_changes_n
     // after the initial event every disc stands on its cut
     assert_eq!(indicator(&h.fmu), SWEEP);
     let step = SWEEP;
-    // the outer disc's centre speed and its frame's turn
+    // the outer disc's centre speed and its frame's turn, at the lever of
+    // the tip's edge (the disc only touches the face)
     let vz = P_REV * W / (2.0 * std::f64::consts::PI);
-    let speed = ((W * TRACKS[1]).powi(2) + vz * vz).sqrt() + W * R;
+    let speed = ((W * TRACKS[1]).powi(2) + vz * vz).sqrt() + W * lever(0.0);
+    assert!((lever(0.0) - 0.0065).abs() < 1e-12);
     assert!(
         (next.unwrap() - 2.0 * step / speed).abs() < 1e-12,
         "backstop: two sweep steps ahead, {next:?}"
     );
     // a turn by a: the outer disc's centre moves along the chord, its frame
-    // turns by a; its spin (free rolling: rim speed W track) is less
+    // turns by a (at the lever of its part in the rock); its spin (free
+    // rolling: rim speed W track) is less
     let t = 1e-3;
     let a = W * t;
     assert_eq!(h.fmu.set_time(t), OK);
     h.motion(t);
     let z = -P_REV * W / (2.0 * std::f64::consts::PI) * t;
     let chord = ((2.0 * TRACKS[1] * (a / 2.0).sin()).powi(2) + z * z).sqrt();
-    let expect = step - (chord + a * R);
+    let expect = step - (chord + a * lever(t));
     let got = indicator(&h.fmu);
     assert!((got - expect).abs() < 1e-12, "{got} against {expect}");
     assert_eq!(indicator(&h.fmu), got, "reading it changes nothing");
@@ -154,7 +168,7 @@ fn step_event_flag_within_the_slack_of_a_sweep_step_and_the_event_commits() {
     let travel = |t: f64| {
         let a = W * t;
         let z = P_REV * W / (2.0 * std::f64::consts::PI) * t;
-        ((2.0 * TRACKS[1] * (a / 2.0).sin()).powi(2) + z * z).sqrt() + a * R
+        ((2.0 * TRACKS[1] * (a / 2.0).sin()).powi(2) + z * z).sqrt() + a * lever(t)
     };
     let (mut lo, mut hi) = (0.0, 1.0);
     for _ in 0..200 {
@@ -226,10 +240,18 @@ fn me_bore(h: &Head, t_end: f64, dt: f64) -> usize {
 
 #[test]
 fn model_exchange_events_cut_what_co_simulation_cuts() {
-    let t_end = 0.6; // outer rim: 0.6 rad * (0.2 + R) m = 250 sweep steps
+    // the outer disc's travel in the rock: 0.6 rad * (0.2 m + the lever,
+    // 6.5 to 17 mm) = 127 sweep steps
+    let t_end = 0.6;
     let (me, _) = me_head("hev-me");
     let events = me_bore(&me, t_end, 5e-3);
-    let outer = W * t_end * (TRACKS[1] + R) / SWEEP;
+    let n = 6000;
+    let outer = (0..n)
+        .map(|k| W * (TRACKS[1] + lever((k as f64 + 0.5) * t_end / n as f64)))
+        .sum::<f64>()
+        * (t_end / n as f64)
+        / SWEEP;
+    assert!((outer - 127.0).abs() < 1.0, "{outer}");
     assert!(
         (events as f64 - outer).abs() <= 3.0,
         "{events} events against {outer} sweep steps of the outer rim"

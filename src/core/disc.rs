@@ -29,7 +29,7 @@ use super::face::Face;
 use super::heightmap::{HeightMap, TileRect};
 use super::model::{
     bound_sub_steps, bound_visits, check_interval, cut_visits, friction_force, most_visits_per_cut,
-    rim_speed, rim_travel_between, steps_for, Outputs,
+    rim_travel_between, step_travel, steps_for, Outputs, RimReach,
 };
 use super::params::MAX_NODE_VISITS_PER_CALL;
 use super::params::{CsmParams, CutterParams, DirectionRule, Params};
@@ -480,8 +480,9 @@ pub(crate) fn path_since(
 }
 
 /// Rim travel along `path` to `pose` ([`rim_travel_between`]).
-pub(crate) fn path_travel((prev, q0, q1): &Path, pose: &Pose, radius: f64) -> f64 {
-    rim_travel_between(&(pose.position - prev.position), q0, q1, radius)
+pub(crate) fn path_travel((prev, q0, q1): &Path, pose: &Pose, reach: &RimReach) -> f64 {
+    let z = prev.position.z.min(pose.position.z);
+    rim_travel_between(&(pose.position - prev.position), q0, q1, z, reach)
 }
 
 /// The pose `k / n` of the way along `path` to `pose` (positions linear,
@@ -533,7 +534,7 @@ pub fn commit_paths(
         .zip(discs.iter())
         .map(|((plan, (pose, _)), d)| {
             plan.as_ref().map_or(1, |path| {
-                let travel = path_travel(path, pose, d.cutter.radius);
+                let travel = path_travel(path, pose, &RimReach::new(&d.cutter, &face.map));
                 steps_for(travel, params.numerics.sweep_step).min(1.0e7) as usize
             })
         })
@@ -915,11 +916,12 @@ fn cut_together(
     changed
 }
 
-/// Sub-steps of a sweep in which no rim point of a disc whose centre moves
-/// with `twist` travels more than `numerics.sweep_step` (the spin about the
-/// axle does not count: a rolling rim point does not move over the rock).
-pub fn sub_steps(pose: &Pose, twist: &Twist, radius: f64, h: f64, params: &Params) -> usize {
-    let travel = rim_speed(pose, twist, radius) * h;
+/// Sub-steps of a sweep in which no rim point in the rock ([`RimReach`])
+/// of a disc whose centre moves with `twist` travels more than
+/// `numerics.sweep_step` (the spin about the axle does not count: a rolling
+/// rim point does not move over the rock).
+pub fn sub_steps(pose: &Pose, twist: &Twist, reach: &RimReach, h: f64, params: &Params) -> usize {
+    let travel = step_travel(pose, twist, reach, h);
     steps_for(travel, params.numerics.sweep_step).min(1.0e7) as usize
 }
 

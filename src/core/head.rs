@@ -25,7 +25,7 @@ use super::face::blob;
 use super::face::{grid_of, Face};
 use super::heightmap::{HeightMap, TileRect, TILE};
 use super::layout::{CutterSpec, Layout};
-use super::model::{check_step, Outputs};
+use super::model::{check_step, Outputs, RimReach};
 use super::params::{CutterParams, Params};
 use super::pose::{advance_pose, Pose, Twist};
 use super::rsf;
@@ -364,7 +364,7 @@ impl Head {
                 Some(super::model::rim_travel(
                     &s.last_cut?,
                     pose,
-                    spec.cutter.radius,
+                    &RimReach::new(&spec.cutter, &self.state.face.map),
                 ))
             })
             .reduce(f64::max)
@@ -545,7 +545,10 @@ impl Head {
         motions
             .iter()
             .zip(&self.specs)
-            .map(|((p, t), s)| sub_steps(p, t, s.cutter.radius, h, &self.params))
+            .map(|((p, t), s)| {
+                let reach = RimReach::new(&s.cutter, &self.state.face.map);
+                sub_steps(p, t, &reach, h, &self.params)
+            })
             .collect()
     }
 

@@ -426,6 +426,8 @@ pub struct HeightMap {
     undo: Undo,
     /// Which history of cuts this map holds ([`Lineage`]).
     lineage: Lineage,
+    /// An upper bound of every node ([`HeightMap::top`]).
+    top: f64,
 }
 
 /// A map's history, for what a disc may assume of the rock it cut last:
@@ -497,7 +499,18 @@ impl HeightMap {
             rows: vec![Arc::from(vec![None; tiles_x]); tiles_y],
             undo: Undo::default(),
             lineage: Lineage::fresh(),
+            top: z0,
         }
+    }
+
+    /// An upper bound of every node's height: the highest the rock reaches
+    /// anywhere on the face. Cuts and chips only lower nodes, so it is the
+    /// initial face's top (`z0` on a flat face) unless a node is set above
+    /// it: [`set_node`](Self::set_node) and [`load_tile`](Self::load_tile)
+    /// raise it, and [`new_lineage`](Self::new_lineage) (nodes set through
+    /// patches) finds it again from the tiles' bounds.
+    pub fn top(&self) -> f64 {
+        self.top
     }
 
     /// This map's history of cuts: the same number while its nodes have
@@ -508,8 +521,15 @@ impl HeightMap {
     }
 
     /// Starts a new history: nodes may have risen (set through patches).
+    /// The [`top`](Self::top) is found again from the tiles' height bounds
+    /// (a scan of the tile directory).
     pub fn new_lineage(&mut self) {
         self.lineage = Lineage::fresh();
+        self.top = self
+            .tiles()
+            .flatten()
+            .map(|t| t.z_max)
+            .fold(self.z0, f64::max);
     }
 
     pub fn grid(&self) -> &Grid {
@@ -594,6 +614,9 @@ impl HeightMap {
     /// being loaded: the node does not count as cut).
     pub fn set_node(&mut self, i: usize, j: usize, z: f64) {
         self.lineage = Lineage::fresh();
+        if z > self.top {
+            self.top = z;
+        }
         let (tj, ti, k) = self.tile_index(i, j);
         self.tile_mut(tj, ti, k).set(k, z);
     }
@@ -1029,6 +1052,7 @@ impl HeightMap {
         dm.cut.copy_from_slice(cut);
         let z_max = d.z.iter().copied().fold(bound, f64::max);
         self.lineage = Lineage::fresh();
+        self.top = self.top.max(z_max);
         *self.slot_mut(k / self.tiles_x, k % self.tiles_x) = Some(Tile { d, z_max });
         Some(())
     }
@@ -1133,6 +1157,40 @@ mod tests {
     /// height bound) against node-by-node reads, on a map cut in a
     /// scattered pattern across tile edges and mask words, with absent
     /// tiles between.
+    /// The face's top bounds every node: cuts leave it, a node set above
+    /// it raises it, a loaded tile raises it to the tile's bound, and a new
+    /// lineage (nodes set through patches) finds it from the tiles again.
+    #[test]
+    fn the_top_bounds_every_node() {
+        let g = Grid::new(0.0, 0.2, 0.0, 0.2, 201, 201);
+        let mut m = HeightMap::flat(g, 0.5);
+        assert_eq!(m.top(), 0.5);
+        m.lower_node(10, 10, 0.4);
+        m.lower_row(20, 0, 200, |z| Some(z - 0.1));
+        assert_eq!(m.top(), 0.5);
+        m.set_node(150, 10, 0.45);
+        assert_eq!(m.top(), 0.5);
+        m.set_node(150, 10, 0.6);
+        assert_eq!(m.top(), 0.6);
+        let k = m.touched_tiles().next().unwrap().0;
+        let mut back = HeightMap::flat(g, 0.5);
+        back.load_tile(k, &[0.2; TILE_NODES], &[0; MASK_WORDS], 0.7)
+            .unwrap();
+        assert_eq!(back.top(), 0.7);
+        // through a patch: unknown to the map until the new lineage
+        let mut p = HeightMap::flat(g, 0.5);
+        let rect = p.tile_rect(100, 120, 100, 120);
+        p.patches(&[rect]).unwrap()[0].set_node(110, 110, 0.9);
+        assert_eq!(p.top(), 0.5);
+        p.new_lineage();
+        assert_eq!(p.top(), 0.9);
+        let highest = (0..g.ny)
+            .flat_map(|j| (0..g.nx).map(move |i| (i, j)))
+            .map(|(i, j)| p.node(i, j))
+            .fold(NO_ROCK, f64::max);
+        assert_eq!(highest, 0.9);
+    }
+
     #[test]
     fn cell_masks_and_height_bounds_match_node_by_node_reads() {
         let g = Grid::new(0.0, 0.2, 0.0, 0.2, 201, 201);

@@ -25,8 +25,8 @@ pub use disc::{Disc, DiscState};
 pub use error::{KerfError, Result};
 pub use face::Face;
 pub use model::{
-    friction_coefficient, friction_force, rim_speed, rim_spin_speed, rim_travel, Model, ModelState,
-    Outputs,
+    friction_coefficient, friction_force, rim_speed, rim_spin_speed, rim_travel, step_travel,
+    Model, ModelState, Outputs, RimReach,
 };
 pub use params::{CsmVariant, DirectionRule, Params};
 pub use pose::{Pose, Twist};

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use crate::core::head::{place_all, DiscSpec, Drive, Head, HeadOutputs, HeadState, Mount};
 use crate::core::layout::Layout;
 use crate::core::params::CutterParams;
-use crate::core::{rim_speed, rim_spin_speed, Params, Pose, Twist};
+use crate::core::{rim_speed, rim_spin_speed, Params, Pose, RimReach, Twist};
 
 use super::generic::{restore_core, Class, Ctx, Fmi, FmuModel, Snapshot, StepError, VarInfo};
 use super::head_md::{self, HeadVar, Slot, Ty};
@@ -480,7 +480,11 @@ impl FmuModel for HeadModel {
             .zip(self.values.specs())
             .map(|((p, t), s)| {
                 let r = s.cutter.radius;
-                rim_speed(p, t, r).max(rim_spin_speed(p, t, r))
+                let reach = self
+                    .head
+                    .as_ref()
+                    .map_or(RimReach::whole(r), |h| RimReach::new(&s.cutter, h.map()));
+                rim_speed(p, t, &reach).max(rim_spin_speed(p, t, r))
             })
             .fold(0.0, f64::max)
     }

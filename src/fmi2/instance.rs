@@ -14,7 +14,7 @@ use crate::core::params::{
 };
 use crate::core::{
     rim_speed, rim_spin_speed, CsmVariant, DirectionRule, Model, ModelState, Outputs, Params, Pose,
-    Twist,
+    RimReach, Twist,
 };
 
 use super::generic::{self, restore_core, Class, Ctx, Fmi, FmuModel, StepError, VarInfo};
@@ -509,7 +509,11 @@ impl FmuModel for DiscModel {
     fn rim_speed(&self) -> f64 {
         let (pose, twist) = (self.values.pose(), self.values.twist());
         let radius = self.radius();
-        rim_speed(&pose, &twist, radius).max(rim_spin_speed(&pose, &twist, radius))
+        let reach = self
+            .model
+            .as_ref()
+            .map_or(RimReach::whole(radius), |m| m.rim_reach());
+        rim_speed(&pose, &twist, &reach).max(rim_spin_speed(&pose, &twist, radius))
     }
 
     fn commit(&mut self, dt: f64) -> Res<bool> {

@@ -324,8 +324,8 @@ fn chips_on_a_head_replay_bit_for_bit_for_any_thread_count() {
     assert_eq!(on(&mut a), first);
     let back = HeadState::from_bytes(&bytes, a.params(), a.len()).unwrap();
     // a state read back equals the one it was written from, the tiles'
-    // height bounds included (after chips they are looser than the nodes,
-    // and the contact's arc walk starts from them)
+    // height bounds included (the contact's arc walk starts from them, and
+    // an edge tile's nodes off the grid do not raise them)
     assert_eq!(back, saved);
     assert_eq!(back.to_bytes(), bytes);
     a.set_state(&back).unwrap();

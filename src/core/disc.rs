@@ -732,6 +732,9 @@ fn cut_in_time_order(
         } else {
             changed |= cut_together(face, discs, group, &end, params);
         }
+        // the tiles' height bounds follow the face down before the next
+        // sub-step's windows read them
+        face.map.refresh_bounds();
     }
     Ok((changed, end))
 }
@@ -790,6 +793,7 @@ pub(crate) fn sweep_checked(
             states[i].last_cut = Some(*pose);
         }
     }
+    face.map.refresh_bounds();
     // the energy's trapezoid starts from the power after the last step
     // (`DiscState::last_power`), or, for a disc cut first here, from the
     // power at its start pose

@@ -38,8 +38,10 @@ impl Face {
         Ok(Self::from_map(map))
     }
 
-    /// A face with this height map and nothing removed yet.
-    pub fn from_map(map: HeightMap) -> Self {
+    /// A face with this height map and nothing removed yet (its tiles'
+    /// height bounds found from the nodes set: `HeightMap::refresh_bounds`).
+    pub fn from_map(mut map: HeightMap) -> Self {
+        map.refresh_bounds();
         Self {
             map,
             excavated_volume: 0.0,

@@ -48,6 +48,27 @@ struct TileData {
     /// surface does not). The contact reads it to tell the blurred edge of a
     /// groove from the face it was cut from.
     cut: [u64; MASK_WORDS],
+    /// Whether the tile's height bound may be stale, and where it was found.
+    marks: BoundMarks,
+}
+
+/// What [`HeightMap::refresh_bounds`] keeps of a tile: whether a write
+/// lowered a node at its height bound since the bound was last found (it
+/// may lie above every node now), and the row of nodes it was found in
+/// (read first the next time: a row of rock the cuts have not reached yet
+/// usually holds it still). Bookkeeping, not the tile's content: tiles
+/// compare equal whatever their marks. (Kept with the nodes, not in the
+/// directory, whose slots stay two words.)
+#[derive(Debug, Clone, Copy, Default)]
+struct BoundMarks {
+    stale: bool,
+    hint: u8,
+}
+
+impl PartialEq for BoundMarks {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 // (a row of a tile lies inside one mask word: `TileData::cell_mask`)
@@ -68,8 +89,9 @@ impl TileData {
 #[derive(Debug, Clone)]
 struct Tile {
     d: Arc<TileData>,
-    /// An upper bound of the heights in the tile (cuts only lower nodes, so
-    /// it is kept exact on writes that raise and conservative on cuts).
+    /// An upper bound of the heights in the tile: raised on writes that
+    /// raise, and found again ([`HeightMap::refresh_bounds`]) once a write
+    /// has lowered a node that stood at it ([`BoundMarks`]).
     z_max: f64,
 }
 
@@ -82,6 +104,7 @@ impl Tile {
             d: Arc::new(TileData {
                 z: [z0; TILE_NODES],
                 cut: [0; MASK_WORDS],
+                marks: BoundMarks::default(),
             }),
             z_max: z0,
         });
@@ -91,7 +114,9 @@ impl Tile {
     /// Sets node `k` to `z` (copy on write: a tile shared with a snapshot
     /// is copied here, once).
     fn set(&mut self, k: usize, z: f64) {
-        Arc::make_mut(&mut self.d).z[k] = z;
+        let d = Arc::make_mut(&mut self.d);
+        d.marks.stale |= z < d.z[k] && d.z[k] >= self.z_max;
+        d.z[k] = z;
         if z > self.z_max {
             self.z_max = z;
         }
@@ -100,12 +125,57 @@ impl Tile {
     /// Lowers node `k` to `z` and marks it cut (copy on write, as `set`).
     fn lower(&mut self, k: usize, z: f64) {
         let d = Arc::make_mut(&mut self.d);
+        d.marks.stale |= z < d.z[k] && d.z[k] >= self.z_max;
         d.z[k] = z;
         d.cut[k / 64] |= 1u64 << (k % 64);
         if z > self.z_max {
             self.z_max = z;
         }
     }
+}
+
+/// The highest of the tile's heights `z` on the map's grid (its first
+/// `cols` nodes of its first `rows` rows: an edge tile's other nodes lie
+/// off the grid) and the row it stands in, or `bound` as soon as a row
+/// reaches it (nothing stands higher than the bound); row `hint` first,
+/// then a row at a time, each in four lanes (the compiler keeps them in
+/// vector registers).
+fn tile_max(
+    z: &[f64; TILE_NODES],
+    bound: f64,
+    hint: usize,
+    rows: usize,
+    cols: usize,
+) -> (f64, usize) {
+    let row_max = |r: usize| {
+        let quads = z[r * TILE..r * TILE + cols].chunks_exact(4);
+        let rest = quads.remainder();
+        let mut lanes = [NO_ROCK; 4];
+        for q in quads {
+            for (l, &v) in lanes.iter_mut().zip(q) {
+                *l = if v > *l { v } else { *l };
+            }
+        }
+        lanes
+            .into_iter()
+            .chain(rest.iter().copied())
+            .fold(NO_ROCK, |m, l| if l > m { l } else { m })
+    };
+    let hint = hint.min(rows - 1);
+    let (mut m, mut at) = (row_max(hint), hint);
+    if m >= bound {
+        return (bound, hint);
+    }
+    for r in (0..rows).filter(|&r| r != hint) {
+        let v = row_max(r);
+        if v > m {
+            (m, at) = (v, r);
+            if m >= bound {
+                return (bound, r);
+            }
+        }
+    }
+    (m, at)
 }
 
 /// Nodes `i0..=i1` of a row as runs inside one tile each: `(first, count)`.
@@ -158,7 +228,8 @@ impl<'a> Slot<'a> for RowSlot<'a> {
 /// `slot`, in order; where it returns a height the node is lowered to it and
 /// marked cut. Until the first write the tile is only read (an untouched one
 /// reads `z0`); at the first write it is allocated or unshared once, and
-/// `log(k, z, cut_word, z_max)` hears what each write overwrites.
+/// `log(k, z, cut_word, z_max)` hears what each write overwrites. Returns
+/// whether the run made the tile's bound stale (lowered a node at it).
 fn lower_run<'a>(
     slot: impl Slot<'a>,
     z0: f64,
@@ -167,7 +238,7 @@ fn lower_run<'a>(
     f: &mut impl FnMut(f64) -> Option<f64>,
     mut log: impl FnMut(usize, f64, u64, f64),
     on_alloc: impl FnOnce(),
-) {
+) -> bool {
     let mut k = k0;
     let end = k0 + n;
     let first = {
@@ -175,7 +246,7 @@ fn lower_run<'a>(
         let heights = slot.read().as_ref().map(|t| &t.d.z);
         loop {
             if k == end {
-                return;
+                return false;
             }
             let z = heights.map_or(z0, |h| h[k]);
             k += 1;
@@ -190,8 +261,10 @@ fn lower_run<'a>(
     }
     let Tile { d, z_max } = tile;
     let d = Arc::make_mut(d);
+    let was_stale = d.marks.stale;
     let mut write = |d: &mut TileData, k: usize, nz: f64| {
         log(k, d.z[k], d.cut[k / 64], *z_max);
+        d.marks.stale |= nz < d.z[k] && d.z[k] >= *z_max;
         d.z[k] = nz;
         d.cut[k / 64] |= 1u64 << (k % 64);
         if nz > *z_max {
@@ -205,6 +278,7 @@ fn lower_run<'a>(
         }
         k += 1;
     }
+    d.marks.stale && !was_stale
 }
 
 /// A rectangle of tiles: columns `ti[0]..=ti[1]`, rows `tj[0]..=tj[1]`.
@@ -428,6 +502,8 @@ pub struct HeightMap {
     lineage: Lineage,
     /// An upper bound of every node ([`HeightMap::top`]).
     top: f64,
+    /// Tiles whose bounds [`HeightMap::refresh_bounds`] is to find again.
+    pending: Pending,
 }
 
 /// A map's history, for what a disc may assume of the rock it cut last:
@@ -452,6 +528,23 @@ impl Clone for Lineage {
 }
 
 impl PartialEq for Lineage {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+/// The tiles whose bounds may have gone stale since
+/// [`HeightMap::refresh_bounds`]: those the map's own writes made stale, and
+/// the rectangles it handed out as patches (whose writes it does not see).
+/// Bookkeeping between two refreshes, not the map's content: maps compare
+/// equal whatever is pending.
+#[derive(Debug, Clone, Default)]
+struct Pending {
+    tiles: Vec<usize>,
+    rects: Vec<TileRect>,
+}
+
+impl PartialEq for Pending {
     fn eq(&self, _: &Self) -> bool {
         true
     }
@@ -500,6 +593,7 @@ impl HeightMap {
             undo: Undo::default(),
             lineage: Lineage::fresh(),
             top: z0,
+            pending: Pending::default(),
         }
     }
 
@@ -521,10 +615,12 @@ impl HeightMap {
     }
 
     /// Starts a new history: nodes may have risen (set through patches).
-    /// The [`top`](Self::top) is found again from the tiles' height bounds
-    /// (a scan of the tile directory).
+    /// The bounds of the tiles written are found again
+    /// ([`refresh_bounds`](Self::refresh_bounds)), and the
+    /// [`top`](Self::top) from them (a scan of the tile directory).
     pub fn new_lineage(&mut self) {
         self.lineage = Lineage::fresh();
+        self.refresh_bounds();
         self.top = self
             .tiles()
             .flatten()
@@ -568,6 +664,15 @@ impl HeightMap {
     pub fn memory_bytes(&self) -> usize {
         self.tile_count() * std::mem::size_of::<Option<Tile>>()
             + self.allocated_tiles() * std::mem::size_of::<TileData>()
+    }
+
+    /// Rows and columns of nodes of tile `(tj, ti)` that lie on the grid
+    /// (all `TILE` of each but in the last tiles of a row or column).
+    fn on_grid(&self, tj: usize, ti: usize) -> (usize, usize) {
+        (
+            (self.grid.ny - tj * TILE).min(TILE),
+            (self.grid.nx - ti * TILE).min(TILE),
+        )
     }
 
     /// Tile row, tile column and node index in the tile of node `(i, j)`.
@@ -617,14 +722,59 @@ impl HeightMap {
         if z > self.top {
             self.top = z;
         }
-        let (tj, ti, k) = self.tile_index(i, j);
-        self.tile_mut(tj, ti, k).set(k, z);
+        self.write_node(i, j, |tile, k| tile.set(k, z));
     }
 
     /// Lowers node `(i, j)` to `z` by a cut or a chip, and marks it cut.
     pub fn lower_node(&mut self, i: usize, j: usize, z: f64) {
+        self.write_node(i, j, |tile, k| tile.lower(k, z));
+    }
+
+    /// Writes node `(i, j)` of its tile (`write(tile, k)`, undo record
+    /// included), noting the tile if the write makes its bound stale.
+    fn write_node(&mut self, i: usize, j: usize, write: impl FnOnce(&mut Tile, usize)) {
         let (tj, ti, k) = self.tile_index(i, j);
-        self.tile_mut(tj, ti, k).lower(k, z);
+        let tile = self.tile_mut(tj, ti, k);
+        let was = tile.d.marks.stale;
+        write(tile, k);
+        if tile.d.marks.stale && !was {
+            self.pending.tiles.push(tj * self.tiles_x + ti);
+        }
+    }
+
+    /// Finds again the bound of every tile a write has made stale since the
+    /// last refresh (the highest of its nodes, read until a row reaches the
+    /// old bound), so that the bounds follow the face down as it is bored
+    /// (`max_height`, and with it every window and walk, reads them). The
+    /// discs' cuts call it after each sub-step's cuts; its cost follows the
+    /// tiles written, not the face.
+    pub fn refresh_bounds(&mut self) {
+        let Pending { tiles, rects } = std::mem::take(&mut self.pending);
+        let tx = self.tiles_x;
+        let in_rects = rects.iter().flat_map(|r| {
+            (r.tj[0]..=r.tj[1]).flat_map(move |tj| (r.ti[0]..=r.ti[1]).map(move |ti| tj * tx + ti))
+        });
+        for t in tiles.iter().copied().chain(in_rects) {
+            if !self.slot(t).as_ref().is_some_and(|tile| tile.d.marks.stale) {
+                continue;
+            }
+            let (tj, ti) = (t / tx, t % tx);
+            let (rows, cols) = self.on_grid(tj, ti);
+            if let Some(tile) = self.slot_mut(tj, ti) {
+                let d = Arc::make_mut(&mut tile.d);
+                let hint = usize::from(d.marks.hint);
+                let (m, row) = tile_max(&d.z, tile.z_max, hint, rows, cols);
+                tile.z_max = m;
+                d.marks = BoundMarks {
+                    stale: false,
+                    hint: row as u8,
+                };
+            }
+        }
+        // (the buffers kept for the next time)
+        self.pending = Pending { tiles, rects };
+        self.pending.tiles.clear();
+        self.pending.rects.clear();
     }
 
     /// Runs `f(z)` over the heights of nodes `i0..=i1` of row `j`, in order,
@@ -644,7 +794,7 @@ impl HeightMap {
             let undo = &mut self.undo;
             let open = undo.open;
             let mut allocated = false;
-            lower_run(
+            let stale = lower_run(
                 RowSlot {
                     row: &mut self.rows[tj],
                     ti,
@@ -669,6 +819,9 @@ impl HeightMap {
             if allocated && self.undo.open {
                 self.undo.allocated.push(t);
             }
+            if stale {
+                self.pending.tiles.push(t);
+            }
         }
     }
 
@@ -685,6 +838,7 @@ impl HeightMap {
     /// Only while no undo record is open: a patch's writes are not logged.
     pub fn patches(&mut self, rects: &[TileRect]) -> Option<Vec<Patch<'_>>> {
         assert!(!self.undo.open, "patches cannot log undo");
+        self.pending.rects.extend_from_slice(rects);
         // every rectangle is one run of tiles per tile row; the runs of all
         // rectangles, in directory order, are peeled off the rows they lie
         // in (each such row unshared first)
@@ -1020,25 +1174,30 @@ impl HeightMap {
                     d.z[w.node] = w.z;
                     d.cut[w.node / 64] = w.cut_word;
                     tile.z_max = w.z_max;
+                    d.marks.stale = false;
                 }
             }
             for &t in &u.allocated {
                 *self.slot_mut(t / tx, t % tx) = None;
             }
+            // (the bounds are the ones before the change, as found then)
+            self.pending.tiles.clear();
+            self.pending.rects.clear();
         }
     }
 
     /// The bound on tile `k`'s heights that the map keeps (the one
-    /// [`max_height`](Self::max_height) reads): exact after a load, only an
-    /// upper bound after cuts. A state carries it, so that a map read back
-    /// scans and walks exactly as the one it was written from.
+    /// [`max_height`](Self::max_height) reads): exact after a load or a
+    /// [`refresh_bounds`](Self::refresh_bounds), an upper bound in between.
+    /// A state carries it, so that a map read back scans and walks exactly
+    /// as the one it was written from.
     pub fn tile_bound(&self, k: usize) -> f64 {
         self.slot(k).as_ref().map_or(self.z0, |t| t.z_max)
     }
 
     /// Restores a tile written by [`HeightMap::touched_tiles`], with its
     /// height bound ([`tile_bound`](Self::tile_bound); never below the
-    /// tile's highest node, whatever the caller passes).
+    /// tile's highest node on the grid, whatever the caller passes).
     pub fn load_tile(&mut self, k: usize, z: &[f64], cut: &[u64], bound: f64) -> Option<()> {
         if k >= self.tile_count() || z.len() != TILE_NODES || cut.len() != MASK_WORDS {
             return None;
@@ -1046,11 +1205,16 @@ impl HeightMap {
         let mut d = Arc::new(TileData {
             z: [0.0; TILE_NODES],
             cut: [0; MASK_WORDS],
+            marks: BoundMarks::default(),
         });
         let dm = Arc::make_mut(&mut d);
         dm.z.copy_from_slice(z);
         dm.cut.copy_from_slice(cut);
-        let z_max = d.z.iter().copied().fold(bound, f64::max);
+        let (rows, cols) = self.on_grid(k / self.tiles_x, k % self.tiles_x);
+        let z_max = (0..rows)
+            .flat_map(|r| &d.z[r * TILE..r * TILE + cols])
+            .copied()
+            .fold(bound, f64::max);
         self.lineage = Lineage::fresh();
         self.top = self.top.max(z_max);
         *self.slot_mut(k / self.tiles_x, k % self.tiles_x) = Some(Tile { d, z_max });
@@ -1157,6 +1321,80 @@ mod tests {
     /// height bound) against node-by-node reads, on a map cut in a
     /// scattered pattern across tile edges and mask words, with absent
     /// tiles between.
+    /// After a refresh every tile's bound is the highest of its nodes on
+    /// the grid (an edge tile's nodes off it left out), whatever lowered
+    /// them: rows, single nodes, chips-like scattered writes, patches, set
+    /// nodes; before it, the bound is never below a node; a rollback puts
+    /// the bounds back with the nodes. Brute force over 300 rounds of
+    /// random writes on a map whose last tiles overhang the grid.
+    #[test]
+    fn refreshed_bounds_are_the_highest_node_of_each_tile() {
+        let g = Grid::new(0.0, 0.1, 0.0, 0.07, 101, 71); // 4 x 3 tiles, the last ones partial
+        let mut m = HeightMap::flat(g, 0.0);
+        let mut u = crate::core::uniforms(0xb0b0);
+        let exact = |m: &HeightMap, t: usize| {
+            let (tj, ti) = (t / m.tiles_x, t % m.tiles_x);
+            let mut top = NO_ROCK;
+            for j in tj * TILE..((tj + 1) * TILE).min(g.ny) {
+                for i in ti * TILE..((ti + 1) * TILE).min(g.nx) {
+                    top = top.max(m.node(i, j));
+                }
+            }
+            top
+        };
+        let check_bounds = |m: &HeightMap, refreshed: bool| {
+            for t in 0..m.tile_count() {
+                if m.slot(t).is_some() {
+                    let (b, e) = (m.tile_bound(t), exact(m, t));
+                    assert!(b >= e, "tile {t}: bound {b} below node {e}");
+                    if refreshed {
+                        assert_eq!(b, e, "tile {t}");
+                    }
+                }
+            }
+        };
+        let mut lowered = 0;
+        for round in 0..300 {
+            let before = m.clone();
+            let undo = round % 7 == 3;
+            if undo {
+                m.begin_undo();
+            }
+            for _ in 0..(1 + (u() * 6.0) as usize) {
+                let (i, j) = ((u() * g.nx as f64) as usize, (u() * g.ny as f64) as usize);
+                let by = 1e-4 * (1.0 + 20.0 * u());
+                match (u() * 4.0) as usize {
+                    // (whole rows, so that whole tiles come down)
+                    0 => m.lower_row(j, 0, g.nx - 1, |z| Some(z - by)),
+                    1 => m.lower_node(i, j, m.node(i, j) - by),
+                    2 => m.set_node(i, j, m.node(i, j) - by),
+                    _ if !undo => {
+                        let rect = m.tile_rect(i, (i + 10).min(g.nx - 1), j, j);
+                        let mut p = m.patches(&[rect]).unwrap();
+                        p[0].lower_row(j, i, (i + 10).min(g.nx - 1), |z| Some(z - by));
+                    }
+                    _ => {}
+                }
+                lowered += 1;
+            }
+            check_bounds(&m, false);
+            if undo {
+                m.rollback();
+                assert_eq!(m, before);
+                for t in 0..m.tile_count() {
+                    assert_eq!(m.tile_bound(t), before.tile_bound(t));
+                }
+            } else {
+                m.refresh_bounds();
+                check_bounds(&m, true);
+            }
+        }
+        // (the bounds came down: every tile's nodes were all lowered)
+        assert!(lowered > 600);
+        let down = (0..m.tile_count()).filter(|&t| m.tile_bound(t) < -1e-4);
+        assert_eq!(down.count(), 4, "of 12");
+    }
+
     /// The face's top bounds every node: cuts leave it, a node set above
     /// it raises it, a loaded tile raises it to the tile's bound, and a new
     /// lineage (nodes set through patches) finds it from the tiles again.

@@ -874,6 +874,47 @@ mod tests {
         assert!(near > 1000, "{near}");
     }
 
+    /// The contact and the cut read the face, not how it came to be: a face
+    /// lowered 20 mm node by node (its tiles' height bounds found again,
+    /// `HeightMap::refresh_bounds`) bears a disc tilted 30 deg, whose side
+    /// face's yield reads the highest rock near it, as the flat face at
+    /// that height does, bit for bit, over a pass. (With the bounds left at
+    /// the height the nodes were lowered from, the forces differ.)
+    #[test]
+    fn a_face_lowered_node_by_node_bears_as_a_flat_face_there() {
+        use crate::scenes::{face, roll, Straight};
+        let mut low = face(1e-3, -0.3, 0.5, -0.06, 0.06);
+        low.rock.z0 = -0.02;
+        let mut high = low.clone();
+        high.rock.z0 = 0.0;
+        let track = Straight {
+            prm: low.clone(),
+            x0: 0.0,
+            y: 0.0,
+            depth: 0.0238,
+            roll: 30f64.to_radians(),
+        };
+        let mut a = Model::new(low).unwrap();
+        let mut b = Model::new(high).unwrap();
+        let mut map = b.state.face.map.clone();
+        let g = *map.grid();
+        for j in 0..g.ny {
+            for i in 0..g.nx {
+                map.set_node(i, j, -0.02);
+            }
+        }
+        b.state.face = Face::from_map(map);
+        let ma = roll(&mut a, &track, 0.15, 1e-3, 0.05, 0.15);
+        let mb = roll(&mut b, &track, 0.15, 1e-3, 0.05, 0.15);
+        assert!(
+            ma.force[0] > 20e3 && ma.force[2].abs() > 1e3,
+            "{:?}",
+            ma.force
+        );
+        assert_eq!((ma.force, ma.moment), (mb.force, mb.moment));
+        assert_eq!(ma.volume, mb.volume);
+    }
+
     /// The work bound counts the windows exactly once the cheap reach bound
     /// no longer fits: a long step of a tilted disc on fine cells is refused
     /// before it cuts anything, and a short one on the same rock runs.

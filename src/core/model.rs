@@ -257,13 +257,12 @@ impl RimReach {
     pub fn turn(&self, phi: &Vector3<f64>, z: f64) -> f64 {
         let h = z - self.top;
         let whole = phi.norm() * self.radius;
-        if h > 0.0 && h < self.reach {
-            let lever = (self.reach * self.reach - h * h).sqrt();
+        if h > 0.0 {
+            // (0 once no point of the solid reaches below the top; the
+            // count stays continuous in the pose, as the event indicator
+            // must)
+            let lever = (self.reach * self.reach - h * h).max(0.0).sqrt();
             whole.min(phi.z.abs() * lever + phi.x.hypot(phi.y) * self.radius)
-        } else if h >= self.reach {
-            // (no point of the solid reaches the rock: the spin-free turn
-            // moves nothing that cuts; a plunge's centre move counts)
-            0.0
         } else {
             whole
         }
@@ -872,6 +871,20 @@ mod tests {
         }
         // (the bound is not empty: it is met closely in many cases)
         assert!(near > 1000, "{near}");
+        // continuous in the centre's height, as the event indicator must be:
+        // where the solid leaves the rock (the lever's square root falls to
+        // 0 there: 7e-9 m over these 2e-12 m) and where the centre meets
+        // the top
+        let rr = RimReach {
+            radius: r,
+            reach,
+            top: 0.0,
+        };
+        let phi = Vector3::new(0.003, -0.002, 0.01);
+        for z in [reach, 0.0] {
+            let (lo, hi) = (rr.turn(&phi, z - 1e-12), rr.turn(&phi, z + 1e-12));
+            assert!((lo - hi).abs() < 1e-7, "{z}: {lo} {hi}");
+        }
     }
 
     /// The contact and the cut read the face, not how it came to be: a face

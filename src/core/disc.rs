@@ -481,8 +481,7 @@ pub(crate) fn path_since(
 
 /// Rim travel along `path` to `pose` ([`rim_travel_between`]).
 pub(crate) fn path_travel((prev, q0, q1): &Path, pose: &Pose, reach: &RimReach) -> f64 {
-    let z = prev.position.z.min(pose.position.z);
-    rim_travel_between(&(pose.position - prev.position), q0, q1, z, reach)
+    rim_travel_between((&prev.position, &pose.position), q0, q1, reach)
 }
 
 /// The pose `k / n` of the way along `path` to `pose` (positions linear,

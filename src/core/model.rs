@@ -291,17 +291,15 @@ pub(crate) fn solid_reach(cutter: &super::params::CutterParams) -> f64 {
 pub fn rim_travel(a: &Pose, b: &Pose, reach: &RimReach) -> f64 {
     let q0 = UnitQuaternion::from_rotation_matrix(&a.rotation());
     let q1 = UnitQuaternion::from_rotation_matrix(&b.rotation());
-    let z = a.position.z.min(b.position.z);
-    rim_travel_between(&(b.position - a.position), &q0, &q1, z, reach)
+    rim_travel_between((&a.position, &b.position), &q0, &q1, reach)
 }
 
-/// [`rim_travel`] for a centre move `dp` between the orientations `q0` and
-/// `q1`, the centre no lower than `z`.
+/// [`rim_travel`] for a straight move of the centre from `p0` to `p1`, from
+/// the orientation `q0` to `q1`.
 pub(crate) fn rim_travel_between(
-    dp: &Vector3<f64>,
+    (p0, p1): (&Vector3<f64>, &Vector3<f64>),
     q0: &UnitQuaternion<f64>,
     q1: &UnitQuaternion<f64>,
-    z: f64,
     reach: &RimReach,
 ) -> f64 {
     // the turn in the disc's frame as a swing after a twist about the axle
@@ -320,7 +318,7 @@ pub(crate) fn rim_travel_between(
     // the swing in the rock frame: the surface at q0 turned about the
     // centre by q0 swing q0^-1
     let phi = q0 * UnitQuaternion::from_quaternion(swing).scaled_axis();
-    dp.norm() + reach.turn(&phi, z)
+    (p1 - p0).norm() + reach.turn(&phi, p0.z.min(p1.z))
 }
 
 /// The most weighted node visits one cut of a disc of `cutter` can make on

@@ -1509,17 +1509,21 @@ pub fn contact(
     // (with each circle's `Element::driving` where it was found, which the
     // loads read again)
     let mut drivings = [None::<Driving>; MAX_CIRCLES];
-    let walk_circle = |c: &Circle, rim_touches: bool| -> Walked {
+    // (the walks, some 400 bytes a circle, are written where they are
+    // kept: passed back in the tuple they were copied twice more)
+    let walk_circle_into = |c: &Circle, rim_touches: bool, out: &mut [Option<Walk>; 2]| {
         let Some(w) = SliceWalk::below(disc, (c.y, c.radius), z_top, walk) else {
-            return ([None, None], [true; 2], None);
+            *out = [None, None];
+            return ([true; 2], None);
         };
         if motion.moving < 1.0 {
-            return (w.march_both(map, disc), [true; 2], None);
+            *out = w.march_both(map, disc);
+            return ([true; 2], None);
         }
         let e = c.element(disc, &motion);
         let driving = e.driving();
         let d = w.sides_driving(&e, driving, DRIVE_SLIVER_CELLS * look / c.radius);
-        let pair = if every || (c.face != 0.0 && !rim_touches) {
+        *out = if every || (c.face != 0.0 && !rim_touches) {
             w.march_both(map, disc)
         } else if c.face != 0.0 {
             w.march_sides(map, disc, d)
@@ -1528,14 +1532,19 @@ pub fn contact(
         } else {
             w.march_driving_first(map, disc, d)
         };
-        (pair, d, Some(driving))
+        (d, Some(driving))
+    };
+    let walk_circle = |c: &Circle, rim_touches: bool| -> Walked {
+        let mut pair = [None, None];
+        let (d, driving) = walk_circle_into(c, rim_touches, &mut pair);
+        (pair, d, driving)
     };
     let mut rim_touches = false;
     for (ci, c) in circles[..nc].iter().enumerate() {
         if ring_idle(c) && rim_touches {
             continue;
         }
-        (walks[ci], drives[ci], drivings[ci]) = walk_circle(c, rim_touches);
+        (drives[ci], drivings[ci]) = walk_circle_into(c, rim_touches, &mut walks[ci]);
         rim_touches |= c.face == 0.0 && walks[ci].iter().any(Option::is_some);
     }
     // the rim slices as the part of their strip that touches the rock

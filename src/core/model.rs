@@ -396,18 +396,20 @@ pub(crate) fn bound_sub_steps(
 /// the centre's travel plus the turn of the disc's frame (the spin about the
 /// axle left out), the centre no lower than where it ends.
 pub fn step_travel(pose: &Pose, twist: &Twist, reach: &RimReach, h: f64) -> f64 {
-    let axle = pose.rotation() * Vector3::y();
-    let w_frame = twist.omega - axle * twist.omega.dot(&axle);
     let z = pose.position.z + (twist.velocity.z * h).min(0.0);
-    twist.velocity.norm() * h + reach.turn(&(w_frame * h), z)
+    travel_over(pose, twist, reach, h, z)
 }
 
 /// Speed of a rim point in the rock ([`RimReach`]) of a disc at `pose`
 /// moving with `twist`: [`step_travel`] per second, for an instant.
 pub fn rim_speed(pose: &Pose, twist: &Twist, reach: &RimReach) -> f64 {
-    let axle = pose.rotation() * Vector3::y();
-    let w_frame = twist.omega - axle * twist.omega.dot(&axle);
-    twist.velocity.norm() + reach.turn(&w_frame, pose.position.z)
+    travel_over(pose, twist, reach, 1.0, pose.position.z)
+}
+
+/// [`step_travel`] over `h` seconds with the centre no lower than `z`.
+fn travel_over(pose: &Pose, twist: &Twist, reach: &RimReach, h: f64, z: f64) -> f64 {
+    let w_frame = twist.frame_rate(&(pose.rotation() * Vector3::y()));
+    twist.velocity.norm() * h + reach.turn(&(w_frame * h), z)
 }
 
 /// Speed of a rim point about the disc centre from the spin about the axle

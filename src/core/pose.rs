@@ -112,6 +112,13 @@ impl Pose {
 }
 
 impl Twist {
+    /// The angular velocity of the cutter frame (the fork's) for a disc
+    /// whose axle points along `axle` (unit): the twist's less its spin
+    /// about the axle, which moves no point of the disc's surface.
+    pub fn frame_rate(&self, axle: &Vector3<f64>) -> Vector3<f64> {
+        self.omega - axle * self.omega.dot(axle)
+    }
+
     pub fn new(v: [f64; 3], w: [f64; 3]) -> Self {
         Self {
             velocity: Vector3::from(v),
@@ -144,8 +151,6 @@ impl Twist {
 /// (the frame is the fork's; it does not spin with the disc).
 pub fn advance_pose(pose: &Pose, twist: &Twist, h: f64) -> Pose {
     let r = pose.rotation();
-    let axle = r * Vector3::y();
-    let w_frame = twist.omega - axle * twist.omega.dot(&axle);
-    let dr = Rotation3::from_scaled_axis(w_frame * h);
+    let dr = Rotation3::from_scaled_axis(twist.frame_rate(&(r * Vector3::y())) * h);
     Pose::from_rotation(pose.position + twist.velocity * h, &(dr * r))
 }

@@ -446,6 +446,17 @@ impl Walk {
     }
 }
 
+/// The sides (`[+1, -1]`) of a circle [`SliceWalk::march_into`] walks.
+#[derive(Debug, Clone, Copy)]
+enum Sides {
+    /// The sides marked.
+    Wanted([bool; 2]),
+    /// The side marked (one of them) alone, and the other too where that
+    /// one finds no arc (so that whether the slice touches stays as
+    /// walking both sides finds it).
+    DrivingFirst([bool; 2]),
+}
+
 /// One rim circle to walk (a tip slice, a side-face ring or a flank band):
 /// the circle at axle coordinate `y` of radius `radius`, from its lowest
 /// point `theta0` up to `reach` (at most half a turn) either way, in steps
@@ -492,50 +503,39 @@ impl SliceWalk {
         (rim, s, c, here0)
     }
 
-    /// Marches both sides (`dir` = +1 towards cutter +x, then -1) and
-    /// brackets each contact arc's ends: the circle, the lowest point's sine
-    /// and cosine and the rock over it read once.
-    fn march_both(&self, map: &HeightMap, disc: &PosedDisc) -> [Option<Walk>; 2] {
-        self.march_sides(map, disc, [true; 2])
-    }
-
-    /// [`SliceWalk::march_both`] on the sides `wanted` (`[+1, -1]`); a side
-    /// not wanted is `None`.
+    /// Marches the sides `sides` asks for (`dir` = +1 towards cutter +x,
+    /// then -1) and brackets each contact arc's ends, written into `out`
+    /// (`[+1, -1]`; a side not walked is `None`): the circle, the lowest
+    /// point's sine and cosine and the rock over it read once. Each walk is
+    /// some 150 bytes: built where it is kept, not copied there (a pair
+    /// returned by value and stored was a `memcpy` of 300 bytes a circle,
+    /// 2 % of a straight cut's contact).
     #[inline(always)]
-    fn march_sides(
+    fn march_into(
         &self,
         map: &HeightMap,
         disc: &PosedDisc,
-        wanted: [bool; 2],
-    ) -> [Option<Walk>; 2] {
+        sides: Sides,
+        out: &mut [Option<Walk>; 2],
+    ) {
         let side = self.sides(map, disc);
-        // (built in place: each walk is some 150 bytes)
-        [
-            if wanted[0] { side(1.0) } else { None },
-            if wanted[1] { side(-1.0) } else { None },
-        ]
-    }
-
-    /// [`SliceWalk::march_sides`] on the side `drive` marks alone, and on
-    /// the other side too where that one finds no arc (so that whether the
-    /// slice touches stays as walking both sides finds it); `drive` marks
-    /// one side. The start is read once for both.
-    #[inline(always)]
-    fn march_driving_first(
-        &self,
-        map: &HeightMap,
-        disc: &PosedDisc,
-        drive: [bool; 2],
-    ) -> [Option<Walk>; 2] {
-        let side = self.sides(map, disc);
-        let first = usize::from(!drive[0]);
         let dir = |k: usize| if k == 0 { 1.0 } else { -1.0 };
-        let mut pair = [None, None];
-        pair[first] = side(dir(first));
-        if pair[first].is_none() {
-            pair[1 - first] = side(dir(1 - first));
+        match sides {
+            Sides::Wanted(wanted) => {
+                for (k, w) in out.iter_mut().enumerate() {
+                    *w = if wanted[k] { side(dir(k)) } else { None };
+                }
+            }
+            Sides::DrivingFirst(drive) => {
+                let first = usize::from(!drive[0]);
+                out[first] = side(dir(first));
+                out[1 - first] = if out[first].is_none() {
+                    side(dir(1 - first))
+                } else {
+                    None
+                };
+            }
         }
-        pair
     }
 
     /// The march of one side (`dir`) of the circle, the circle, its lowest
@@ -574,7 +574,7 @@ impl SliceWalk {
         })
     }
 
-    /// Whether [`SliceWalk::march_both`] finds a contact on either side
+    /// Whether walking both sides ([`SliceWalk::march_into`]) finds a contact on either side
     /// (either walk `is_some()`), without walking the arcs.
     fn touches(&self, map: &HeightMap, disc: &PosedDisc) -> bool {
         let (rim, s, c, here0) = self.start(map, disc);
@@ -600,7 +600,7 @@ impl SliceWalk {
     }
 }
 
-/// One side (`dir`) of [`SliceWalk::march_both`] on the circle `rim` (`(y, radius)`)
+/// One side (`dir`) of [`SliceWalk::march_into`] on the circle `rim` (`(y, radius)`)
 /// from `theta0` (sine `s0`, cosine `c0`), where the rock over the rim is
 /// `here0`.
 ///
@@ -1517,21 +1517,22 @@ pub fn contact(
             return ([true; 2], None);
         };
         if motion.moving < 1.0 {
-            *out = w.march_both(map, disc);
+            w.march_into(map, disc, Sides::Wanted([true; 2]), out);
             return ([true; 2], None);
         }
         let e = c.element(disc, &motion);
         let driving = e.driving();
         let d = w.sides_driving(&e, driving, DRIVE_SLIVER_CELLS * look / c.radius);
-        *out = if every || (c.face != 0.0 && !rim_touches) {
-            w.march_both(map, disc)
+        let sides = if every || (c.face != 0.0 && !rim_touches) {
+            Sides::Wanted([true; 2])
         } else if c.face != 0.0 {
-            w.march_sides(map, disc, d)
+            Sides::Wanted(d)
         } else if d[0] == d[1] {
-            w.march_both(map, disc)
+            Sides::Wanted([true; 2])
         } else {
-            w.march_driving_first(map, disc, d)
+            Sides::DrivingFirst(d)
         };
+        w.march_into(map, disc, sides, out);
         (d, Some(driving))
     };
     let walk_circle = |c: &Circle, rim_touches: bool| -> Walked {
@@ -1645,7 +1646,8 @@ pub fn contact(
     // circles that may turn out deepest get the fine tolerance
     let deepest_lo = lo[0].max(lo[1]);
     // (each arc with `sin_cos` of its ends, for its load)
-    let finish_pair = |pair: &[Option<Walk>; 2], dr: [bool; 2]| -> [Option<Finished>; 2] {
+    // (written where it is kept: a pair returned by value was copied)
+    let finish_pair = |pair: &[Option<Walk>; 2], dr: [bool; 2], out: &mut [Option<Finished>; 2]| {
         // (the samples of strips split below read their heights here)
         let heights = |s: usize| pair[s].as_ref().map(|w| w.end_heights(disc));
         let z = [heights(0), heights(1)];
@@ -1655,13 +1657,12 @@ pub fn contact(
             .filter_map(|s| z[s])
             .any(|z| (z.b_far - z.a).max(0.0) >= deepest_lo);
         let tol = if may_govern { ANGLE_TOL } else { LEAN_TOL };
-        let finish = |s: usize| {
+        for (s, o) in out.iter_mut().enumerate() {
             let z = z[s].unwrap_or_default();
-            pair[s]
+            *o = pair[s]
                 .as_ref()
-                .map(|w| w.finish_from(map, disc, look, refine_side[s], tol, &z))
-        };
-        [finish(0), finish(1)]
+                .map(|w| w.finish_from(map, disc, look, refine_side[s], tol, &z));
+        }
     };
     // the rim slices' arcs first: a slice whose arc depth breaks with its
     // neighbours' (an arc end on an older groove's blurred wall or floor,
@@ -1669,7 +1670,7 @@ pub fn contact(
     // integrated in thirds as well
     let mut slice_arcs = [[None::<Finished>; 2]; 101];
     for (k, a) in slice_arcs.iter_mut().enumerate().take(n) {
-        *a = finish_pair(&walks[k], drives[k]);
+        finish_pair(&walks[k], drives[k], a);
     }
     if m > 0.0 && n >= 3 {
         // each slice's deepest loaded arc, found once (the strips split
@@ -1716,10 +1717,13 @@ pub fn contact(
             any |= walks[ci].iter().any(Option::is_some);
             continue;
         }
+        // (a slice's arcs read where they are kept, not copied)
+        let mut own = [None, None];
         let finished = if ci < n {
-            slice_arcs[ci]
+            &slice_arcs[ci]
         } else {
-            finish_pair(&walks[ci], drives[ci])
+            finish_pair(&walks[ci], drives[ci], &mut own);
+            &own
         };
         // (the circle's element and where it drives once, for both sides)
         let mut element = None;

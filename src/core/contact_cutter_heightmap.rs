@@ -508,8 +508,7 @@ impl SliceWalk {
     /// (`[+1, -1]`; a side not walked is `None`): the circle, the lowest
     /// point's sine and cosine and the rock over it read once. Each walk is
     /// some 150 bytes: built where it is kept, not copied there (a pair
-    /// returned by value and stored was a `memcpy` of 300 bytes a circle,
-    /// 2 % of a straight cut's contact).
+    /// returned by value and stored was a `memcpy` of 300 bytes a circle).
     #[inline(always)]
     fn march_into(
         &self,

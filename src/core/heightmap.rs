@@ -114,24 +114,32 @@ impl Tile {
     /// Sets node `k` to `z` (copy on write: a tile shared with a snapshot
     /// is copied here, once).
     fn set(&mut self, k: usize, z: f64) {
-        let d = Arc::make_mut(&mut self.d);
-        d.marks.stale |= z < d.z[k] && d.z[k] >= self.z_max;
-        d.z[k] = z;
-        if z > self.z_max {
-            self.z_max = z;
-        }
+        store(Arc::make_mut(&mut self.d), &mut self.z_max, k, z);
     }
 
     /// Lowers node `k` to `z` and marks it cut (copy on write, as `set`).
     fn lower(&mut self, k: usize, z: f64) {
-        let d = Arc::make_mut(&mut self.d);
-        d.marks.stale |= z < d.z[k] && d.z[k] >= self.z_max;
-        d.z[k] = z;
-        d.cut[k / 64] |= 1u64 << (k % 64);
-        if z > self.z_max {
-            self.z_max = z;
-        }
+        lower_in(Arc::make_mut(&mut self.d), &mut self.z_max, k, z);
     }
+}
+
+/// Writes node `k` of a tile's nodes `d` whose height bound is `z_max`:
+/// the bound rises with the node, and a node lowered from the bound marks
+/// it stale ([`BoundMarks`]).
+#[inline]
+fn store(d: &mut TileData, z_max: &mut f64, k: usize, z: f64) {
+    d.marks.stale |= z < d.z[k] && d.z[k] >= *z_max;
+    d.z[k] = z;
+    if z > *z_max {
+        *z_max = z;
+    }
+}
+
+/// [`store`], and marks the node cut.
+#[inline]
+fn lower_in(d: &mut TileData, z_max: &mut f64, k: usize, z: f64) {
+    store(d, z_max, k, z);
+    d.cut[k / 64] |= 1u64 << (k % 64);
 }
 
 /// The highest of the tile's heights `z` on the map's grid (its first
@@ -264,12 +272,7 @@ fn lower_run<'a>(
     let was_stale = d.marks.stale;
     let mut write = |d: &mut TileData, k: usize, nz: f64| {
         log(k, d.z[k], d.cut[k / 64], *z_max);
-        d.marks.stale |= nz < d.z[k] && d.z[k] >= *z_max;
-        d.z[k] = nz;
-        d.cut[k / 64] |= 1u64 << (k % 64);
-        if nz > *z_max {
-            *z_max = nz;
-        }
+        lower_in(d, z_max, k, nz);
     };
     write(d, k - 1, first);
     while k < end {
@@ -1317,10 +1320,6 @@ mod tests {
         assert!(m.is_cut(140, 0) && m.is_cut(33, 47));
     }
 
-    /// The fast cell reads (the cut mask two nodes a shift, the tiles'
-    /// height bound) against node-by-node reads, on a map cut in a
-    /// scattered pattern across tile edges and mask words, with absent
-    /// tiles between.
     /// After a refresh every tile's bound is the highest of its nodes on
     /// the grid (an edge tile's nodes off it left out), whatever lowered
     /// them: rows, single nodes, chips-like scattered writes, patches, set
@@ -1429,6 +1428,10 @@ mod tests {
         assert_eq!(highest, 0.9);
     }
 
+    /// The fast cell reads (the cut mask two nodes a shift, the tiles'
+    /// height bound) against node-by-node reads, on a map cut in a
+    /// scattered pattern across tile edges and mask words, with absent
+    /// tiles between.
     #[test]
     fn cell_masks_and_height_bounds_match_node_by_node_reads() {
         let g = Grid::new(0.0, 0.2, 0.0, 0.2, 201, 201);

@@ -464,6 +464,48 @@ fn rolling_into_the_end_face_is_felt_at_the_first_sample_that_touches_it() {
     );
 }
 
+#[test]
+fn rolling_off_the_end_of_the_rock_unloads_without_a_jump() {
+    // the rock ends at x = 1.25: rolling out of it at 3.8 mm, the leading
+    // arc shortens to the rock that is left and the load falls with it. The
+    // "rock still there" look-ahead (4 mm of travel) read the void past the
+    // end as no rock and dropped its three samples one at a time: F_N fell
+    // by 15.5 kN (a quarter of the steady cut) in one 1 mm step, 16 mm and
+    // again 8 mm before the end, and was gone 5 mm before it
+    let p = 3.8e-3;
+    let mut m = Model::new(Params::default()).unwrap();
+    let tw = Twist::new([1.0, 0.0, 0.0], [0.0, 1.0 / R, 0.0]);
+    let mut pose = Pose::new(1.1, 0.0, R - p, 0.0, 0.0, 0.0);
+    let (f_ref, _) = csm(p);
+    let mut last: Option<f64> = None;
+    let mut largest_step = 0.0f64;
+    for _ in 0..180 {
+        pose = m.advance(&pose, &tw, 1e-3).unwrap();
+        let o = m.evaluate(&pose, &tw).unwrap();
+        let x = pose.position.x;
+        if x >= 1.2 {
+            if let Some(f) = last {
+                largest_step = largest_step.max((o.normal_force - f).abs());
+            }
+            last = Some(o.normal_force);
+        }
+        // 2-3.5 mm before the end there is still a lump of rock 3.6 mm high
+        if (1.2465..=1.248).contains(&x) {
+            assert!(o.normal_force > 0.02 * f_ref, "x {x}: {}", o.normal_force);
+        }
+        // past the end the rim is over its own groove only: no contact
+        if x > 1.252 {
+            assert!(!o.in_contact, "x {x}");
+            assert_eq!(o.force, [0.0; 3], "x {x}");
+        }
+    }
+    // the steepest fall is the last 2 mm of rock's (3.4 kN, 5.6 % of F_N)
+    assert!(
+        largest_step < 0.07 * f_ref,
+        "F_N steps by {largest_step} N of {f_ref}"
+    );
+}
+
 /// kerf.fmu's disc rolling at 0.157 m/s while it plunges at 1 mm/s from
 /// 0.1 mm deep in flat rock (every step cuts a little deeper): each step
 /// taken twice from the same state, z moved by 1e-15 m the second time,

@@ -180,6 +180,7 @@ pub fn contact_brute(
             let arc_depth = (world(tb).z - world(ta).z).max(0.0);
             let (load, eff) = arc_contribution(
                 map,
+                disc,
                 &motion,
                 e,
                 (t0, t1),

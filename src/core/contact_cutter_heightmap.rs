@@ -989,10 +989,10 @@ pub fn still_there_tolerance(elastic_depth: f64, look: f64, disc: &PosedDisc) ->
 const ROCK_END_HALVINGS: usize = 16;
 
 /// The rock over the surface point `q` (cutter frame) of `disc` after
-/// `motion`'s look-ahead: `height - z` where the point is then, or, where that lies
-/// off the rock (past the map's edge, or in a hole of an initial surface)
-/// while the point now is on it, where the straight path between the two
-/// leaves the rock.
+/// `motion`'s look-ahead: `height - z` where the point is then, or, where
+/// that lies off the rock (past the map's edge, or in a hole of an initial
+/// surface) while the point now is on it, where the straight path between
+/// the two leaves the rock.
 ///
 /// The look-ahead asks whether the disc will still meet rock where this
 /// part of it meets rock now. Rolling off the end of a block, it will, up
@@ -1844,10 +1844,11 @@ pub fn contact(
     if !any {
         return none;
     }
-    // arcs that carry nothing (no side reaches any depth) are no contact:
-    // the rim of a disc that has rolled past the end of its rock still
-    // dips into its own groove's walls, which the map blurs across a cell
-    // at the tip's edges, and reported touching rock with every force zero
+    // arcs that all carry nothing (no side reaches any depth) are no
+    // contact either: the rim of a disc that has rolled past the end of its
+    // rock still dips into its own groove's walls, which the map blurs
+    // across a cell at the tip's edges, and reported touching rock with
+    // every force zero
     let Some((mut c, (wp, wm))) = assemble(disc, law, n, loads, depth) else {
         return none;
     };

@@ -990,9 +990,10 @@ const ROCK_END_HALVINGS: usize = 16;
 
 /// The rock over the surface point `q` (cutter frame) of `disc` after
 /// `motion`'s look-ahead: `height - z` where the point is then, or, where
-/// that lies off the rock (past the map's edge, or in a hole of an initial
-/// surface) while the point now is on it, where the straight path between
-/// the two leaves the rock.
+/// that lies off the rock (past the map's edge: the map holds no other
+/// [`NO_ROCK`](super::heightmap::NO_ROCK), and a height read across it is
+/// not finite) while the point now is on it, where the straight path
+/// between the two leaves the rock.
 ///
 /// The look-ahead asks whether the disc will still meet rock where this
 /// part of it meets rock now. Rolling off the end of a block, it will, up

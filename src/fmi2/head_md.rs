@@ -535,7 +535,9 @@ pub fn variables(layout: &Layout, drive: Drive) -> Vec<HeadVar> {
             display_unit: None,
             min: None,
             max: None,
-            description: Some(format!("Disc {n}: some rim point below the rock surface bears load")),
+            description: Some(format!(
+                "Disc {n}: some rim point below the rock surface bears load"
+            )),
             slot: Slot::DiscInContact(i),
         });
     }

@@ -573,8 +573,9 @@ impl SliceWalk {
         })
     }
 
-    /// Whether walking both sides ([`SliceWalk::march_into`]) finds a contact on either side
-    /// (either walk `is_some()`), without walking the arcs.
+    /// Whether walking both sides ([`SliceWalk::march_into`]) finds a
+    /// contact on either side (either walk `is_some()`), without walking
+    /// the arcs.
     fn touches(&self, map: &HeightMap, disc: &PosedDisc) -> bool {
         let (rim, s, c, here0) = self.start(map, disc);
         if here0 > 0.0 {
@@ -599,9 +600,9 @@ impl SliceWalk {
     }
 }
 
-/// One side (`dir`) of [`SliceWalk::march_into`] on the circle `rim` (`(y, radius)`)
-/// from `theta0` (sine `s0`, cosine `c0`), where the rock over the rim is
-/// `here0`.
+/// One side (`dir`) of [`SliceWalk::march_into`] on the circle `rim`
+/// (`(y, radius)`) from `theta0` (sine `s0`, cosine `c0`), where the rock
+/// over the rim is `here0`.
 ///
 /// (Until the start is found only the rock over the rim itself is read:
 /// where it is positive the look-ahead is that same value, see

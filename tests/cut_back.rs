@@ -371,6 +371,9 @@ fn a_cutterhead_bores_the_same_face() {
         disc(0.25, 100.0, 0.0),
         disc(0.40, 200.0, 0.0),
         disc(0.55, 300.0, 15.0),
+        // (leaning out 45 deg, as a head's outer gauge cutters do: its
+        // lower face turns into the wall)
+        disc(0.60, 60.0, 45.0),
     ];
     let bore = |whole: bool| {
         let mut p = face(1e-3, -0.75, 0.75, -0.75, 0.75);
@@ -437,13 +440,37 @@ fn the_box_leaves_out_most_of_a_rolling_discs_window() {
     let (all, left) = (nodes(None), nodes(Some(back)));
     eprintln!("tilted 30 deg: {left} of {all} nodes walked");
     assert!(left * 2 < all, "{left} of {all}");
-    // a gauge disc's arc (-60 deg on 4.83 m) gives a box; the same arc
-    // the other way round turns the disc's lower side face into the rock
-    // behind it, and gives none
-    for (roll, some) in [(-60.0f64, true), (60.0, false)] {
+    // a gauge disc's arc (-60 deg on 4.83 m) gives a box that leaves out
+    // nodes over the lower side face too; the same arc the other way round
+    // turns that face into the rock behind it (a head's gauge cutters turn
+    // so), and its box leaves out only nodes over the tip
+    for (roll, over_face) in [(-60.0f64, true), (60.0, false)] {
         let arc = tilted_arc(&p, roll, 4.83);
-        let b = Back::of(&posed(&arc.pose(0.1)), None, &posed(&arc.pose(0.101)));
-        assert_eq!(b.is_some(), some, "tilted {roll} deg on a 4.83 m arc");
+        let last = posed(&arc.pose(0.1));
+        let b = Back::of(&last, None, &posed(&arc.pose(0.101)))
+            .unwrap_or_else(|| panic!("tilted {roll} deg on a 4.83 m arc: no box"));
+        let (cx, cy, r) = (last.centre.x, last.centre.y, last.radius + 0.01);
+        let n = (2.0 * r / 0.5e-3).round() as usize + 1;
+        let g = kerf::core::heightmap::Grid::new(cx - r, cx + r, cy - r, cy + r, n, n);
+        let (mut face, mut tip) = (0, 0);
+        for j in 0..n {
+            for i in 0..n {
+                if b.leaves_out(&g, i, j) {
+                    let (x, y) = g.node_xy(i, j);
+                    match last.lower_boundary(x, y) {
+                        Some((_, kerf::core::cutter::Face::Side(_))) => face += 1,
+                        _ => tip += 1,
+                    }
+                }
+            }
+        }
+        eprintln!("tilted {roll} deg: {face} nodes over the face and {tip} over the tip left out");
+        assert_eq!(
+            face > 0,
+            over_face,
+            "tilted {roll} deg: {face} over the face"
+        );
+        assert!(tip > 1000, "tilted {roll} deg: {tip} over the tip");
     }
     let mut beside = track.pose(0.201);
     beside.position.y += 7e-3;
@@ -521,6 +548,7 @@ fn a_box_leaves_out_only_nodes_the_disc_has_risen_from() {
     let arcs = [
         (-60.0f64, 4.83),
         (60.0, 4.83),
+        (45.0, 4.5),
         (-30.0, 0.5),
         (30.0, 0.5),
         (10.0, 1.0),

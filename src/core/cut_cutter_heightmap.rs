@@ -177,11 +177,25 @@ pub struct Back {
 /// <= 1`, `s` along the heading and `l` across it; `a` and `b` shrunk by a
 /// part in 1e9 and `h_l` by 1 nm, so that every point of it lies strictly
 /// inside.
+///
+/// With a `hole`, the part of it over the lower side face is walked: the
+/// face's plan, the ellipse `((l - l_c) / b_h)^2 + (s / a_h)^2 <= 1`, grown
+/// by 1 nm, so that every point left out lies strictly outside it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Core {
     a: f64,
     b: f64,
     h_l: f64,
+    hole: Option<Hole>,
+}
+
+/// The lower side face's plan in a [`Core`]: centre `l_c` across the
+/// heading, half-axes `a_h` along it and `b_h` across.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Hole {
+    l_c: f64,
+    a_h: f64,
+    b_h: f64,
 }
 
 impl Back {
@@ -311,8 +325,13 @@ impl Back {
     ///   d_l + max(-t_z, 0)) / (cos(psi_max) D_min / R - N_l k)`;
     /// - on the lower side face `n = -sign(a_z) a`, and `n . V` is checked
     ///   at the box's corners: the face moving in its own plane or away from
-    ///   the rock under it (a turn one way; the other way, or a tilted disc
-    ///   diving or crabbing into its lower face's side, there is no box).
+    ///   the rock under it (a turn one way). The other way, or a tilted disc
+    ///   diving or crabbing into its lower face's side, the nodes over the
+    ///   face are walked (the [`Core`]'s hole: the face's plan, an ellipse,
+    ///   over which the lower boundary is the face), and only those over the
+    ///   tip are left out. A gauge cutter leaning out from its head's axis
+    ///   turns that way: the back of its lower face swings out into the
+    ///   wall it shaves, while its tip's back still rises from its groove.
     ///
     /// The box is taken in the last pose's frame, and only its part inside
     /// the plan of the last solid's core ([`Core`]: the two tip edges'
@@ -368,10 +387,11 @@ impl Back {
         // centre (a 19 in gauge disc 6 mm deep and tilted 10 deg reaches
         // 55 mm)
         let rho_h = disc.rho(h);
-        let core = Core {
+        let mut core = Core {
             a: rho_h * (1.0 - 1e-9),
             b: rho_h * ax_z.abs() * (1.0 - 1e-9),
             h_l: h * n0 - 1e-9,
+            hole: None,
         };
         let half = core.h_l + core.b;
         let far = 0.45 * rho_h;
@@ -400,7 +420,15 @@ impl Back {
         let face_clear = corners(s, half)
             .iter()
             .all(|&(_, d_l)| lower * (ax_l * d_l + ax_z * t_z) <= 1e-13 * ax_z.abs());
-        face_clear.then_some(Back {
+        if !face_clear {
+            // (the lower face lies at y = -h sign(a_z) on the axle)
+            core.hole = Some(Hole {
+                l_c: -h * ax_z.signum() * ax_l,
+                a_h: rho_h + 1e-9,
+                b_h: rho_h * ax_z.abs() + 1e-9,
+            });
+        }
+        Some(Back {
             c: (c0.x, c0.y),
             u,
             s,
@@ -559,7 +587,31 @@ impl Core {
             }
         }
         let (lo, hi) = (lo.max(a), hi.min(b));
-        (lo <= hi).then_some((lo, hi))
+        if lo > hi {
+            return None;
+        }
+        let Some(hole) = &self.hole else {
+            return Some((lo, hi));
+        };
+        // less the hole's stretch of the row: the longer of what is left
+        // on either side of it
+        let (p, q) = (lu / hole.b_h, (l0 - hole.l_c) / hole.b_h);
+        let (m, n) = (su / hole.a_h, s0 / hole.a_h);
+        let qa = p * p + m * m;
+        let qb = p * q + m * n;
+        let disc = qb * qb - qa * (q * q + n * n - 1.0);
+        if !(qa > 0.0 && disc >= 0.0) {
+            return Some((lo, hi));
+        }
+        let root = disc.sqrt();
+        let (e0, e1) = ((-qb - root) / qa, (-qb + root) / qa);
+        let (below, above) = ((lo, hi.min(e0)), (lo.max(e1), hi));
+        let longer = if below.1 - below.0 >= above.1 - above.0 {
+            below
+        } else {
+            above
+        };
+        (longer.0 < longer.1).then_some(longer)
     }
 }
 

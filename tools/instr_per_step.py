@@ -12,13 +12,16 @@ Build the examples first, with LTO as the FMU is built:
         whole pass per step, and commit + evaluation per step (the inclusive
         cost of `disc::book_end` and `Disc::cut_at`, what a host's step pays;
         the pass also finds the contact again for the report's cutting force)
-    tools/instr_per_step.py head [--fast]
+    tools/instr_per_step.py head [--fast] [--upright | --tilted]
         the reference head from the steady start at 1 kHz on one thread:
-        (12 steps - 2 steps) / 10; --fast at 2 mm cells and sweep steps
+        (12 steps - 2 steps) / 10; --fast at 2 mm cells and sweep steps;
+        --upright / --tilted: its upright discs alone, or its tilted gauge
+        discs alone (a layout written for the run), to split the cost
 
 Needs valgrind (callgrind_annotate). Takes about 20 s a scene, 2 min for the
 head.
 """
+import json
 import os
 import re
 import subprocess
@@ -73,26 +76,36 @@ def scenes(names):
                   f"commit + evaluation {step_cost(text) / STEPS / 1e3:.1f} k a step")
 
 
-def head(fast):
+def head(fast, part=None):
     binary = os.path.join(TARGET, "release", "examples", "head_cost")
     extra = ["2e-3", "2e-3"] if fast else []
     env = dict(os.environ, RAYON_NUM_THREADS="1")
     counts = {}
     with tempfile.TemporaryDirectory() as tmp:
+        layout = os.path.join(ROOT, "layouts", "reference-9.72m.json")
+        if part:
+            with open(layout) as f:
+                lay = json.load(f)
+            lay["cutters"] = [c for c in lay["cutters"]
+                              if bool(c.get("tiltDeg", 0.0)) == (part == "tilted")]
+            layout = os.path.join(tmp, "part.json")
+            with open(layout, "w") as f:
+                json.dump(lay, f)
         for n in (2, 12):
             out = os.path.join(tmp, f"cg.{n}")
-            callgrind([binary, "layouts/reference-9.72m.json", "1e-3", str(n), "3", "0.006"]
-                      + extra, out, env=env)
+            callgrind([binary, layout, "1e-3", str(n), "3", "0.006"] + extra, out, env=env)
             counts[n] = total(annotate(out))
     per = (counts[12] - counts[2]) / 10
-    print(f"reference head{' (fast setting)' if fast else ''}: {per / 1e6:.2f} M a step")
+    what = f", its {part} discs alone" if part else ""
+    print(f"reference head{' (fast setting)' if fast else ''}{what}: {per / 1e6:.2f} M a step")
 
 
 def main():
     if len(sys.argv) >= 3 and sys.argv[1] == "scene":
         scenes(sys.argv[2:])
     elif len(sys.argv) >= 2 and sys.argv[1] == "head":
-        head("--fast" in sys.argv[2:])
+        part = next((a[2:] for a in sys.argv[2:] if a in ("--upright", "--tilted")), None)
+        head("--fast" in sys.argv[2:], part)
     else:
         sys.exit(__doc__)
 

@@ -575,15 +575,8 @@ impl Core {
         join(band.0, band.1);
         // the ellipses: ((l -+ h_l) / b)^2 + (s / a)^2 <= 1
         for off in [self.h_l, -self.h_l] {
-            let (p, q) = (lu / self.b, (l0 - off) / self.b);
-            let (m, n) = (su / self.a, s0 / self.a);
-            let qa = p * p + m * m;
-            let qb = p * q + m * n;
-            let qc = q * q + n * n - 1.0;
-            let disc = qb * qb - qa * qc;
-            if qa > 0.0 && disc >= 0.0 {
-                let root = disc.sqrt();
-                join((-qb - root) / qa, (-qb + root) / qa);
+            if let Some((p, q)) = ellipse_chord((su, s0), (lu, l0), off, self.a, self.b) {
+                join(p, q);
             }
         }
         let (lo, hi) = (lo.max(a), hi.min(b));
@@ -595,16 +588,9 @@ impl Core {
         };
         // less the hole's stretch of the row: the longer of what is left
         // on either side of it
-        let (p, q) = (lu / hole.b_h, (l0 - hole.l_c) / hole.b_h);
-        let (m, n) = (su / hole.a_h, s0 / hole.a_h);
-        let qa = p * p + m * m;
-        let qb = p * q + m * n;
-        let disc = qb * qb - qa * (q * q + n * n - 1.0);
-        if !(qa > 0.0 && disc >= 0.0) {
+        let Some((e0, e1)) = ellipse_chord((su, s0), (lu, l0), hole.l_c, hole.a_h, hole.b_h) else {
             return Some((lo, hi));
-        }
-        let root = disc.sqrt();
-        let (e0, e1) = ((-qb - root) / qa, (-qb + root) / qa);
+        };
         let (below, above) = ((lo, hi.min(e0)), (lo.max(e1), hi));
         let longer = if below.1 - below.0 >= above.1 - above.0 {
             below
@@ -613,6 +599,31 @@ impl Core {
         };
         (longer.0 < longer.1).then_some(longer)
     }
+}
+
+/// The stretch of a row inside the ellipse `((l - l_c) / b)^2 + (s / a)^2
+/// <= 1`, the row's point at `x` being `s = su x + s0`, `l = lu x + l0`;
+/// `None` when the row misses it. (Inlined by force: called out of line,
+/// the gauge scene's step took 1.2 % more instructions.)
+#[inline(always)]
+fn ellipse_chord(
+    (su, s0): (f64, f64),
+    (lu, l0): (f64, f64),
+    l_c: f64,
+    a: f64,
+    b: f64,
+) -> Option<(f64, f64)> {
+    let (p, q) = (lu / b, (l0 - l_c) / b);
+    let (m, n) = (su / a, s0 / a);
+    let qa = p * p + m * m;
+    let qb = p * q + m * n;
+    let qc = q * q + n * n - 1.0;
+    let disc = qb * qb - qa * qc;
+    if !(qa > 0.0 && disc >= 0.0) {
+        return None;
+    }
+    let root = disc.sqrt();
+    Some(((-qb - root) / qa, (-qb + root) / qa))
 }
 
 /// The nodes a cut at this pose may lower: rows `j0..=j1`, and in each row

@@ -153,6 +153,13 @@ fn tilted_arc(p: &Params, roll: f64, radius: f64) -> TiltedArc {
     }
 }
 
+/// A square grid of `cell` over `disc`'s plan, 1 cm beyond its radius.
+fn plan_grid(disc: &kerf::core::cutter::PosedDisc, cell: f64) -> kerf::core::heightmap::Grid {
+    let (cx, cy, r) = (disc.centre.x, disc.centre.y, disc.radius + 0.01);
+    let n = (2.0 * r / cell).round() as usize + 1;
+    kerf::core::heightmap::Grid::new(cx - r, cx + r, cy - r, cy + r, n, n)
+}
+
 fn prm() -> Params {
     face(1e-3, -0.5, 0.5, -0.5, 0.5)
 }
@@ -449,9 +456,8 @@ fn the_box_leaves_out_most_of_a_rolling_discs_window() {
         let last = posed(&arc.pose(0.1));
         let b = Back::of(&last, None, &posed(&arc.pose(0.101)))
             .unwrap_or_else(|| panic!("tilted {roll} deg on a 4.83 m arc: no box"));
-        let (cx, cy, r) = (last.centre.x, last.centre.y, last.radius + 0.01);
-        let n = (2.0 * r / 0.5e-3).round() as usize + 1;
-        let g = kerf::core::heightmap::Grid::new(cx - r, cx + r, cy - r, cy + r, n, n);
+        let g = plan_grid(&last, 0.5e-3);
+        let n = g.nx;
         let (mut face, mut tip) = (0, 0);
         for j in 0..n {
             for i in 0..n {
@@ -522,7 +528,6 @@ fn a_restored_state_forgets_the_last_cut() {
 fn a_box_leaves_out_only_nodes_the_disc_has_risen_from() {
     use kerf::core::cut_cutter_heightmap::Back;
     use kerf::core::cutter::PosedDisc;
-    use kerf::core::heightmap::Grid;
     let p = prm();
     let posed = |pose: &Pose| PosedDisc::new(&p.cutter, pose);
     let lines = [
@@ -565,9 +570,8 @@ fn a_box_leaves_out_only_nodes_the_disc_has_risen_from() {
         };
         boxes += 1;
         // a 0.25 mm grid over the disc's plan
-        let (cx, cy, r) = (d1.centre.x, d1.centre.y, d1.radius + 0.01);
-        let n = (2.0 * r / 0.25e-3).round() as usize + 1;
-        let g = Grid::new(cx - r, cx + r, cy - r, cy + r, n, n);
+        let g = plan_grid(&d1, 0.25e-3);
+        let n = g.nx;
         for j in 0..n {
             for i in 0..n {
                 if !back.leaves_out(&g, i, j) {

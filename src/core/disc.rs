@@ -630,13 +630,9 @@ pub(crate) fn energy_over(p0: Option<f64>, p1: f64, dt: f64) -> f64 {
 /// duration) name the call.
 fn check_sub_steps(counts: &[usize], params: &Params, what: &str, span: f64) -> Result<()> {
     match counts.iter().enumerate().max_by_key(|&(_, n)| *n) {
-        Some((i, &n)) => bound_sub_steps(
-            n as f64,
-            params.numerics.sweep_step,
-            what,
-            span,
-            &format!("takes disc {i} through"),
-        ),
+        Some((i, &n)) => bound_sub_steps(n as f64, params.numerics.sweep_step, what, span, || {
+            format!("takes disc {i} through")
+        }),
         None => Ok(()),
     }
 }

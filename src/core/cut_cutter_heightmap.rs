@@ -542,8 +542,18 @@ impl BackRows {
         let x0 = g.x_min - b.c.0;
         let k0 = ((lo + pad - x0) / g.dx).ceil().max(i0 as f64);
         let k1 = ((hi - pad - x0) / g.dx).floor().min(i1 as f64);
-        (k0 <= k1).then_some((k0 as usize, k1 as usize))
+        node_pair(k0, k1)
     }
+}
+
+/// `(k0, k1)` as node indices when `k0 <= k1`: both whole, `k0 >= 0` and
+/// below 2^53 (a row's clipped bounds), so converting through `i64` is exact
+/// and takes less code than the conversion to `usize`, which saturates at
+/// both ends (a window's rows are found for every cut: some 5 000 rows a
+/// step of the reference head).
+#[inline(always)]
+fn node_pair(k0: f64, k1: f64) -> Option<(usize, usize)> {
+    (k0 <= k1).then(|| (k0 as i64 as usize, k1 as i64 as usize))
 }
 
 impl Core {
@@ -730,7 +740,7 @@ impl Bounds {
         let pad = 1e-9;
         let i0 = ((lo - pad - g.x_min) / g.dx).ceil().max(0.0);
         let i1 = ((hi + pad - g.x_min) / g.dx).floor().min((g.nx - 1) as f64);
-        (i0 <= i1).then_some((i0 as usize, i1 as usize))
+        node_pair(i0, i1)
     }
 }
 

@@ -11,7 +11,7 @@
 //! load instead of sinking through the rock (the thesis dropped the force to
 //! zero one step after the rock under the cutter was removed).
 
-use super::cutter::PosedDisc;
+use super::cutter::{Columns, PosedDisc};
 use super::heightmap::{Grid, HeightMap, Patch, TileRect};
 use super::params::Numerics;
 
@@ -861,6 +861,8 @@ fn sweep_nodes<M: Nodes>(
     let rt = disc.rot.transpose();
     let d = rt.column(2).into_owned();
     let horizontal = d.y.abs() < 1e-12;
+    // a tilted flank-less disc's lines, solved inline
+    let columns = (!horizontal && !disc.has_flanks()).then(|| Columns::new(disc, d));
     let step = rt.column(0) * g.dx;
     // the solid's half-width: the hub's with flanks (`rho_full` is the tip
     // profile across the tip, bit for bit)
@@ -951,7 +953,10 @@ fn sweep_nodes<M: Nodes>(
                         return None;
                     }
                     let cap = z - elastic_depth - CUT_TOLERANCE;
-                    let z_low = disc.column_lower_end(&q, &d, cap)?.0;
+                    let z_low = match &columns {
+                        Some(c) => c.lower_end(&q, cap)?.0,
+                        None => disc.column_lower_end(&q, &d, cap)?.0,
+                    };
                     lower(stats, z, z_low)
                 })
             };

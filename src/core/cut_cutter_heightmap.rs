@@ -553,7 +553,7 @@ impl BackRows {
 /// step of the reference head).
 #[inline(always)]
 fn node_pair(k0: f64, k1: f64) -> Option<(usize, usize)> {
-    (k0 <= k1).then(|| (k0 as i64 as usize, k1 as i64 as usize))
+    (k0 <= k1).then_some((k0 as i64 as usize, k1 as i64 as usize))
 }
 
 impl Core {

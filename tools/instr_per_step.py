@@ -12,11 +12,15 @@ Build the examples first, with LTO as the FMU is built:
         whole pass per step, and commit + evaluation per step (the inclusive
         cost of `disc::book_end` and `Disc::cut_at`, what a host's step pays;
         the pass also finds the contact again for the report's cutting force)
-    tools/instr_per_step.py head [--fast] [--upright | --tilted]
+    tools/instr_per_step.py head [--fast] [--upright | --tilted] [--split]
         the reference head from the steady start at 1 kHz on one thread:
         (12 steps - 2 steps) / 10; --fast at 2 mm cells and sweep steps;
         --upright / --tilted: its upright discs alone, or its tilted gauge
-        discs alone (a layout written for the run), to split the cost
+        discs alone (a layout written for the run), to split the cost;
+        --split: also the inclusive instructions a step of the contacts,
+        the cuts' node walks and the cut windows (SPLIT; a part LTO inlined
+        away reads "inlined": count it on a build without LTO, e.g.
+        CARGO_PROFILE_RELEASE_LTO=false CARGO_PROFILE_RELEASE_DEBUG=true)
 
 Needs valgrind (callgrind_annotate). Takes about 20 s a scene, 2 min for the
 head.
@@ -76,11 +80,35 @@ def scenes(names):
                   f"commit + evaluation {step_cost(text) / STEPS / 1e3:.1f} k a step")
 
 
-def head(fast, part=None):
+# The parts of a head's step `--split` reports: a name and the function
+# whose inclusive cost is that part (the largest entry of the function,
+# whichever source file callgrind credits).
+SPLIT = [
+    ("contacts", "contact_cutter_heightmap::contact"),
+    ("cuts' node walks", "cut_cutter_heightmap::cut_patch"),
+    ("cut windows", "cut_cutter_heightmap::node_window"),
+]
+
+
+def inclusive(text, function):
+    """The largest inclusive count of `function` (`...::name`, the whole
+    path after the crate) in `callgrind_annotate --inclusive=yes` output,
+    or None where it does not appear."""
+    best = None
+    for line in text.splitlines():
+        m = re.match(r"\s*([\d,]+) \(.*?\)\s+\S*?:kerf::core::(\S+?)( \[.*\])?$", line)
+        if m and m.group(2) == function:
+            v = int(m.group(1).replace(",", ""))
+            best = v if best is None else max(best, v)
+    return best
+
+
+def head(fast, part=None, split=False):
     binary = os.path.join(TARGET, "release", "examples", "head_cost")
     extra = ["2e-3", "2e-3"] if fast else []
     env = dict(os.environ, RAYON_NUM_THREADS="1")
     counts = {}
+    parts = {}
     with tempfile.TemporaryDirectory() as tmp:
         layout = os.path.join(ROOT, "layouts", "reference-9.72m.json")
         if part:
@@ -95,9 +123,19 @@ def head(fast, part=None):
             out = os.path.join(tmp, f"cg.{n}")
             callgrind([binary, layout, "1e-3", str(n), "3", "0.006"] + extra, out, env=env)
             counts[n] = total(annotate(out))
+            if split:
+                text = annotate(out, inclusive=True)
+                parts[n] = {name: inclusive(text, f) for name, f in SPLIT}
     per = (counts[12] - counts[2]) / 10
     what = f", its {part} discs alone" if part else ""
     print(f"reference head{' (fast setting)' if fast else ''}{what}: {per / 1e6:.2f} M a step")
+    for name, _ in SPLIT if split else []:
+        a, b = parts[2][name], parts[12][name]
+        if a is None or b is None:
+            print(f"  {name}: inlined")
+        else:
+            v = (b - a) / 10
+            print(f"  {name}: {v / 1e6:.2f} M a step ({100 * v / per:.0f} %)")
 
 
 def main():
@@ -105,7 +143,7 @@ def main():
         scenes(sys.argv[2:])
     elif len(sys.argv) >= 2 and sys.argv[1] == "head":
         part = next((a[2:] for a in sys.argv[2:] if a in ("--upright", "--tilted")), None)
-        head("--fast" in sys.argv[2:], part)
+        head("--fast" in sys.argv[2:], part, "--split" in sys.argv[2:])
     else:
         sys.exit(__doc__)
 

@@ -861,7 +861,8 @@ fn sweep_nodes<M: Nodes>(
     let rt = disc.rot.transpose();
     let d = rt.column(2).into_owned();
     let horizontal = d.y.abs() < 1e-12;
-    // a tilted flank-less disc's lines, solved inline
+    // a tilted flank-less disc's lines, with what depends on their
+    // direction found once a cut
     let columns = (!horizontal && !disc.has_flanks()).then(|| Columns::new(disc, d));
     let step = rt.column(0) * g.dx;
     // the solid's half-width: the hub's with flanks (`rho_full` is the tip

@@ -122,9 +122,11 @@ def head(fast, part=None, split=False):
         for n in (2, 12):
             out = os.path.join(tmp, f"cg.{n}")
             callgrind([binary, layout, "1e-3", str(n), "3", "0.006"] + extra, out, env=env)
-            counts[n] = total(annotate(out))
+            # (the totals line is the same in the inclusive listing: one
+            # annotation a run serves both)
+            text = annotate(out, inclusive=split)
+            counts[n] = total(text)
             if split:
-                text = annotate(out, inclusive=True)
                 parts[n] = {name: inclusive(text, f) for name, f in SPLIT}
     per = (counts[12] - counts[2]) / 10
     what = f", its {part} discs alone" if part else ""

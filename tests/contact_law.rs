@@ -5,14 +5,15 @@
 //! test says otherwise; tolerances are fractions of the fresh cut's normal
 //! force `FN` (60.8 kN at the reference scene).
 //!
-//! The full sweeps and the convergence runs fail today (README, contact
-//! law): `cargo test --release --test contact_law -- --ignored` (a few
-//! seconds per sweep, about 10 s for the convergence runs in release). Where
+//! The full offset sweep and the convergence at every offset beside a
+//! groove fail today (README, contact law): `cargo test --release --test
+//! contact_law -- --ignored` (a few seconds per sweep, about 10 s for the
+//! convergence sweep in release). Where
 //! the tilt sweep steps most the brute-force oracle steps as much or more
 //! (2.7 % at 31 -> 31.5 deg), so its 2 % asks for more than the reference.
-//! The gauge cutter (a tilted disc turning on its track) converges in its
-//! side force; its normal force misses the 0.5 mm tolerance (1.1 %) where
-//! the track crosses the grid at an angle.
+//! The gauge cutter (a tilted disc turning on its track) converges in every
+//! component (its normal force missed the 0.5 mm tolerance, 1.1 %, while
+//! every cut carved the disc's whole front arc).
 
 use kerf::core::contact_bruteforce::Resolution;
 use kerf::scenes::*;
@@ -229,6 +230,59 @@ fn forces_converge_with_the_cell_size() {
         worst = (worst.0.max(ec), worst.1.max(em));
     }
     assert!(worst.0 < 0.02 && worst.1 < 0.005, "{worst:?}");
+}
+
+/// The worst difference of the cutting force components at 1 mm and at
+/// 0.5 mm cells from 0.25 mm cells, over FN, across a second pass 0 to
+/// 13 mm beside a groove in 0.1 mm steps (131 offsets), and the offsets
+/// where they occur (`--example offset_convergence` prints every offset).
+fn offset_sweep_convergence() -> [(f64, f64); 2] {
+    let mut worst = [(0.0f64, 0.0f64); 2];
+    for k in 0..=130 {
+        let d = 1e-4 * k as f64;
+        let fine = beside(0.25e-3, P_REF, d).cutting;
+        for (w, cell) in worst.iter_mut().zip([1e-3, 0.5e-3]) {
+            let e = diff(beside(cell, P_REF, d).cutting, fine);
+            if e > w.0 {
+                *w = (e, d);
+            }
+        }
+    }
+    eprintln!(
+        "worst: 1 mm {:?}, 0.5 mm {:?} (of FN, at d [m])",
+        worst[0], worst[1]
+    );
+    worst
+}
+
+/// Convergence at every offset beside a groove, not only the three of
+/// `forces_converge_with_the_cell_size` (3, 6.5 and 13 mm, which happen to
+/// be among the offsets where the grids agree best). An old groove's wall
+/// is a one-cell ramp in the height map, and where it lies against the new
+/// disc's tip slices differs with the cell size: the force beside a groove
+/// rises with the offset in steps of about 1 % of FN, at offsets that move
+/// with the cell size. Measured (2026-11-27): worst 2.31 % of FN at 1 mm
+/// cells (12.1 mm beside) and 2.60 % at 0.5 mm (0.5 mm beside); median
+/// 0.15 % and 0.24 %; 3 of the 131 offsets above 2 % at 1 mm and 52 above
+/// 0.5 % at 0.5 mm. Held to the measured level (2.5 % and 3 %), which the
+/// issue's 2 % and 0.5 % do not meet (the ignored test below).
+#[test]
+fn offset_sweep_converges_within_the_measured_bound() {
+    let [one, half] = offset_sweep_convergence();
+    assert!(
+        one.0 < 0.025 && half.0 < 0.03,
+        "1 mm {one:?}, 0.5 mm {half:?}"
+    );
+}
+
+#[test]
+#[ignore = "fails: 2.31 % of FN at 1 mm cells (12.1 mm beside), 2.60 % at 0.5 mm (0.5 mm beside); README, contact law"]
+fn offset_sweep_converges_as_the_issue_asks() {
+    let [one, half] = offset_sweep_convergence();
+    assert!(
+        one.0 < 0.02 && half.0 < 0.005,
+        "1 mm {one:?}, 0.5 mm {half:?}"
+    );
 }
 
 /// The reference head's outer gauge cutter without the head (docs/head.md,

@@ -7,7 +7,9 @@
 //! - Plunging straight down (20 mm/s, or the speed given) from 1 mm above the face: the normal
 //!   force against the CSM F_N(p) when every 1 ms step cuts (20 um a step)
 //!   and when the cuts come once a millimetre of plunge (as Model Exchange
-//!   commits them); README, "Contact law: known gaps".
+//!   commits them). A plunging disc's cut stops half a sweep step short
+//!   (`cut_cutter_heightmap::plunge_lag`), so the two agree and, deeper
+//!   than 1 mm, meet the CSM F_N(p); README, "Contact law: known gaps".
 use kerf::core::csm::contact_angle;
 use kerf::core::{Model, Params, Pose, Twist};
 use kerf::scenes::*;

@@ -21,7 +21,7 @@ use super::contact_cutter_heightmap::{contact, Contact};
 use super::contact_thesis::contact_thesis;
 use super::csm::CsmLaw;
 use super::cut_cutter_heightmap::{
-    cut, cut_patch, node_window, would_cut, Back, CutStats, Front, Window,
+    cut, cut_patch, node_window, plunge_lag, would_cut, Back, CutStats, Front, Window,
 };
 use super::cutter::PosedDisc;
 use super::error::Result;
@@ -269,13 +269,21 @@ impl Disc {
         back_after(self.cut_record.get(), map, disc, params)
     }
 
-    /// Keeps the cut just made on `map` for the next one's [`Back`].
-    fn record_cut(&self, map: &HeightMap, disc: PosedDisc, front: Option<Front>, params: &Params) {
+    /// Keeps the cut just made on `map`, which left the rock `leave` over
+    /// the disc ([`cut_leave`]), for the next one's [`Back`].
+    fn record_cut(
+        &self,
+        map: &HeightMap,
+        disc: PosedDisc,
+        front: Option<Front>,
+        leave: f64,
+        params: &Params,
+    ) {
         self.cut_record.set(Some(CutRecord {
             lineage: map.lineage(),
             disc,
             front,
-            elastic: params.numerics.elastic_depth,
+            elastic: leave,
             fraction: params.rock.plastic_fraction,
         }));
     }
@@ -299,14 +307,15 @@ impl Disc {
         let disc = self.posed(pose);
         let front = cut_front(&face.map, &disc, twist, params);
         let back = self.cut_back(&face.map, &disc, params);
+        let leave = cut_leave(&disc, twist, params);
         let stats = cut(
             &mut face.map,
             &disc,
-            params.numerics.elastic_depth,
+            leave,
             params.rock.plastic_fraction,
             (front, back),
         );
-        self.record_cut(&face.map, disc, front, params);
+        self.record_cut(&face.map, disc, front, leave, params);
         face.excavated_volume += stats.volume;
         let chips = chip_at(face, state, &disc, twist, stats.nodes > 0, params);
         if stats.nodes > 0 || chips {
@@ -331,6 +340,25 @@ fn cut_front(map: &HeightMap, disc: &PosedDisc, twist: &Twist, params: &Params) 
         &params.numerics,
         params.rock.plastic_fraction,
     )
+}
+
+/// How far over `disc` moving with `twist` its cut leaves the rock: the
+/// elastic layer, and for a disc plunging into the rock half a sweep step
+/// more ([`plunge_lag`]; not with `numerics.cut_ahead`, which asks for
+/// whole cuts).
+fn cut_leave(disc: &PosedDisc, twist: &Twist, params: &Params) -> f64 {
+    let n = &params.numerics;
+    if n.cut_ahead {
+        return n.elastic_depth;
+    }
+    let lag = plunge_lag(
+        disc,
+        &twist.velocity,
+        &twist.omega,
+        n,
+        params.rock.plastic_fraction,
+    );
+    n.elastic_depth + lag
 }
 
 /// A cut's window and the tiles it scans, if it scans any.
@@ -844,7 +872,7 @@ fn cut_together(
     motions: &[(Pose, Twist)],
     params: &Params,
 ) -> bool {
-    let (elastic, fraction) = (params.numerics.elastic_depth, params.rock.plastic_fraction);
+    let fraction = params.rock.plastic_fraction;
     let posed: Vec<PosedDisc> = group
         .iter()
         .map(|&i| discs[i].posed(&motions[i].0))
@@ -856,7 +884,7 @@ fn cut_together(
         .iter()
         .map(|&i| (discs[i].cut_record.get(), &motions[i].1))
         .collect();
-    let (fronts, windows): (Vec<Option<Front>>, Vec<WindowTiles>) = posed
+    let (fronts, windows): (Vec<(Option<Front>, f64)>, Vec<WindowTiles>) = posed
         .par_iter()
         .zip(records.par_iter())
         .map(|(d, &(record, twist))| {
@@ -864,7 +892,7 @@ fn cut_together(
             let back = back_after(record, map, d, params);
             let window =
                 node_window(map, d, front, back).and_then(|w| w.tiles(map).map(|r| (w, r)));
-            (front, window)
+            ((front, cut_leave(d, twist, params)), window)
         })
         .unzip();
     let mut wave = vec![0usize; group.len()];
@@ -896,7 +924,7 @@ fn cut_together(
             .zip(members.par_iter())
             .map(|(mut patch, &a)| {
                 let win = &windows[a].as_ref().expect("member").0;
-                cut_patch(&mut patch, win, &posed[a], elastic, fraction)
+                cut_patch(&mut patch, win, &posed[a], fronts[a].1, fraction)
             })
             .collect();
         for (&a, st) in members.iter().zip(done) {
@@ -905,7 +933,8 @@ fn cut_together(
     }
     let mut changed = false;
     for (a, (&i, st)) in group.iter().zip(&stats).enumerate() {
-        discs[i].record_cut(&face.map, posed[a], fronts[a], params);
+        let (front, leave) = fronts[a];
+        discs[i].record_cut(&face.map, posed[a], front, leave, params);
         face.excavated_volume += st.volume;
         if st.nodes > 0 {
             discs[i].forget();

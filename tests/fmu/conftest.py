@@ -132,11 +132,6 @@ _CONTACT_LAW_XFAIL = {
         "where the tip's edge slices leave that fresh cut",
     "test_stepped_initial_face_from_rsf_steps_the_force_once_per_edge":
         "known gap: a step of the initial face is met by the tip slices one at a time",
-    "test_first_contact_pressing_straight_down_pushes_straight_up[CS]":
-        "known gap: plunging in CS, each 1 ms step cuts the pit 20 um deeper, and the "
-        "slice at the contact's edge across the tip reads the pit's wall as the chord "
-        "between a cut and an uncut node: from 0.8 to 1.5 mm deep the force dips up to "
-        "17 % below Model Exchange's (which cuts once a millimetre) and steps back at 1 mm",
     "test_thrust_driven_cutter_settles_at_the_csm_depth[underdamped]":
         "known gap: the held pressure level below 1 mm changes the shallow force the "
         "thrust-driven start passes through (the critically damped runs settle)",

@@ -502,3 +502,55 @@ fn a_disc_plunging_every_step_meets_the_csm_force() {
         "held {f} N after plunging at {last} N"
     );
 }
+
+/// Rolling off the end of the rock (the map's edge at x = 0.25 m) at the
+/// reference depth: the arc that is left shortens, and it is buried to the
+/// rock's top at the end face, so the penetration stays the disc's 3.8 mm
+/// (while the lowest point is 5 mm or more inside) and the normal force
+/// only falls, to zero once the lowest point is past the end. It rose by 2.4 kN (4 % of FN) 25 mm before the end while an arc
+/// cut short by the end read as a shallow cut (the pressure level of its
+/// depth). Measured: largest rise 0 N between 1 mm steps.
+#[test]
+fn rolling_off_the_rocks_end_the_force_only_falls() {
+    let prm = face(1e-3, -0.3, 0.25, -0.06, 0.06);
+    let track = Straight {
+        prm: prm.clone(),
+        x0: 0.0,
+        y: 0.0,
+        depth: P_REF,
+        roll: 0.0,
+    };
+    let mut m = kerf::core::Model::new(prm).unwrap();
+    let (mut last, mut rise): (Option<f64>, f64) = (None, 0.0);
+    for k in 0..=300 {
+        let s = 1e-3 * k as f64;
+        let (pose, tw) = (track.pose(s), track.twist(s));
+        m.commit(&pose, &tw, if k == 0 { 0.0 } else { 1e-3 })
+            .unwrap();
+        let o = m.evaluate(&pose, &tw).unwrap();
+        if s < 0.1 {
+            continue;
+        }
+        if let Some(l) = last {
+            rise = rise.max(o.normal_force - l);
+        }
+        last = Some(o.normal_force);
+        // the lowest point 5 mm or more inside the rock: the whole depth
+        // (closer, the arc's few millimetres fade with the still-there test)
+        if s <= 0.245 {
+            assert!(
+                (o.penetration - P_REF).abs() < 1e-9,
+                "penetration {} at x = {s}",
+                o.penetration
+            );
+        }
+        if s > 0.251 {
+            assert_eq!(o.normal_force, 0.0, "loaded past the end at x = {s}");
+        }
+    }
+    eprintln!("largest rise {rise} N");
+    assert!(
+        rise <= 1e-3 * FN,
+        "the normal force rises by {rise} N near the end"
+    );
+}

@@ -435,10 +435,17 @@ impl Walk {
             (Some(_), false) => (self.b_in.0, z.b_in, z.sc_b_in),
             (None, _) => (self.b_in.0, z.b_in, z.sc_b_in),
         };
+        // an arc that ends where the rock does (the map's edge: a block's
+        // end face) is buried up to the rock's top there, not to where the
+        // rim leaves it: its depth is the rock's at the last sample inside
+        let z_top = match self.b_out {
+            Some((_, u_out)) if !u_out.is_finite() => z_b.max(z.b_in + self.b_in.1),
+            _ => z_b,
+        };
         let arc = Arc {
             a,
             b,
-            depth: (z_b - z_a).max(0.0),
+            depth: (z_top - z_a).max(0.0),
             length: self.radius * (b - a).abs(),
             u_max: self.u_max,
         };

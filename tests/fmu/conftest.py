@@ -125,11 +125,6 @@ _CONTACT_LAW_XFAIL = {
     "test_vanishing_penetration_rolls_with_a_small_finite_force":
         "known gap: the 'rock still there' test cannot resolve a cut shallower than its "
         "tolerance (cell^2 / 8 r, 10 um at 1 mm cells): 1-10 um cuts read as re-rolls",
-    "test_leaving_the_face_force_falls_as_the_arc_shortens":
-        "known gap: the pressure level is a fresh cut's at the arc's depth, so an arc cut "
-        "short by the rock's end but buried across the whole tip is charged at a level "
-        "made for a narrower tip: F_N rises by 2.4 kN (4 % of F_N) 25 mm before the end, "
-        "where the tip's edge slices leave that fresh cut",
     "test_stepped_initial_face_from_rsf_steps_the_force_once_per_edge":
         "known gap: a step of the initial face is met by the tip slices one at a time",
     "test_thrust_driven_cutter_settles_at_the_csm_depth[underdamped]":

@@ -55,13 +55,15 @@ pub struct Disc {
 }
 
 /// A cut a disc made: on which map history ([`HeightMap::lineage`]), at
-/// which pose, how far ahead, with which elastic layer and plastic fraction.
+/// which pose, how far ahead, how much rock it left over the disc
+/// ([`cut_leave`]: the elastic layer, more for a plunging disc) and with
+/// which plastic fraction.
 #[derive(Debug, Clone, Copy)]
 struct CutRecord {
     lineage: u64,
     disc: PosedDisc,
     front: Option<Front>,
-    elastic: f64,
+    leave: f64,
     fraction: f64,
 }
 
@@ -263,8 +265,9 @@ impl Disc {
     }
 
     /// What a cut of `disc` on `map` may leave out behind ([`Back`]): from
-    /// this disc's last cut, if it was made on this map's history with the
-    /// same elastic layer, and both plastic fractions are 1.
+    /// this disc's last cut, if it was made on this map's history and left
+    /// the elastic layer alone over the disc (not a plunging cut's more),
+    /// and both plastic fractions are 1.
     fn cut_back(&self, map: &HeightMap, disc: &PosedDisc, params: &Params) -> Option<Back> {
         back_after(self.cut_record.get(), map, disc, params)
     }
@@ -283,7 +286,7 @@ impl Disc {
             lineage: map.lineage(),
             disc,
             front,
-            elastic: leave,
+            leave,
             fraction: params.rock.plastic_fraction,
         }));
     }
@@ -375,7 +378,7 @@ fn back_after(
     let r = record?;
     let n = &params.numerics;
     let same = r.lineage == map.lineage()
-        && r.elastic == n.elastic_depth
+        && r.leave == n.elastic_depth
         && r.fraction == 1.0
         && params.rock.plastic_fraction == 1.0;
     if n.cut_behind || !same {
@@ -884,6 +887,7 @@ fn cut_together(
         .iter()
         .map(|&i| (discs[i].cut_record.get(), &motions[i].1))
         .collect();
+    // (each disc's front with the layer its cut leaves, `cut_leave`)
     let (fronts, windows): (Vec<(Option<Front>, f64)>, Vec<WindowTiles>) = posed
         .par_iter()
         .zip(records.par_iter())

@@ -507,9 +507,10 @@ fn a_disc_plunging_every_step_meets_the_csm_force() {
 /// reference depth: the arc that is left shortens, and it is buried to the
 /// rock's top at the end face, so the penetration stays the disc's 3.8 mm
 /// (while the lowest point is 5 mm or more inside) and the normal force
-/// only falls, to zero once the lowest point is past the end. It rose by 2.4 kN (4 % of FN) 25 mm before the end while an arc
-/// cut short by the end read as a shallow cut (the pressure level of its
-/// depth). Measured: largest rise 0 N between 1 mm steps.
+/// only falls, to zero once the lowest point is past the end. It rose by
+/// 2.4 kN (4 % of FN) 25 mm before the end while an arc cut short by the
+/// end read as a shallow cut (the pressure level of its depth). Measured:
+/// largest rise 0 N between 1 mm steps.
 #[test]
 fn rolling_off_the_rocks_end_the_force_only_falls() {
     let prm = face(1e-3, -0.3, 0.25, -0.06, 0.06);

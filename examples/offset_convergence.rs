@@ -10,8 +10,10 @@
 //!   moments about the centre (moments over F_N R), as the speed-vs-error
 //!   report reads.
 //!
-//! `cargo run --release --example offset_convergence -- [D0 D1 N]`
+//! `cargo run --release --example offset_convergence -- [D0 D1 N] [--json]`
 //! (defaults 0 13 130: 0.1 mm steps over the tip width; about 10 s).
+//! `--json` prints the summary alone, a JSON object a cell size and
+//! measure, for `scripts/speed-vs-error`'s report.
 
 use kerf::scenes::{beside, Mean, P_REF};
 
@@ -35,6 +37,7 @@ fn errors(m: &Mean, r: &Mean) -> (f64, f64) {
 }
 
 fn main() {
+    let json = std::env::args().any(|a| a == "--json");
     let a: Vec<f64> = std::env::args()
         .skip(1)
         .filter_map(|s| s.parse().ok())
@@ -47,7 +50,9 @@ fn main() {
     let cells = [1e-3, 0.5e-3];
     // per cell: every offset's (cut, out) error
     let mut all: Vec<Vec<(f64, f64, f64)>> = vec![Vec::new(); cells.len()];
-    println!("  d [mm]   F_N at 0.25 mm [kN]   1 mm: cut / out [%]   0.5 mm: cut / out [%]");
+    if !json {
+        println!("  d [mm]   F_N at 0.25 mm [kN]   1 mm: cut / out [%]   0.5 mm: cut / out [%]");
+    }
     for k in 0..=n {
         let d = d0 + (d1 - d0) * k as f64 / n.max(1) as f64;
         let r = beside(0.25e-3, P_REF, d * 1e-3);
@@ -57,7 +62,9 @@ fn main() {
             all[j].push((d, cut, out));
             line += &format!("   {cut:8.2} / {out:5.2}     ");
         }
-        println!("{line}");
+        if !json {
+            println!("{line}");
+        }
     }
     for (j, &c) in cells.iter().enumerate() {
         let target = if j == 0 { 2.0 } else { 0.5 };
@@ -73,6 +80,18 @@ fn main() {
             let over = v.iter().filter(|e| e.0 > target).count();
             v.sort_by(|x, y| x.0.total_cmp(&y.0));
             let median = v[v.len() / 2].0;
+            if json {
+                println!(
+                    "{{\"cell_mm\": {}, \"measure\": \"{name}\", \"worst_pct\": {:.4}, \
+                     \"at_mm\": {:.2}, \"median_pct\": {median:.4}, \"target_pct\": {target}, \
+                     \"over\": {over}, \"offsets\": {}, \"from_mm\": {d0}, \"to_mm\": {d1}}}",
+                    c * 1e3,
+                    worst.0,
+                    worst.1,
+                    v.len()
+                );
+                continue;
+            }
             println!(
                 "{} mm cells, {name}: worst {:.2} % at d = {:.2} mm, median {median:.2} %, \
                  {over} of {} offsets above the issue's {target} %",

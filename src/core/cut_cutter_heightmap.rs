@@ -744,14 +744,34 @@ impl Window {
     /// The tiles of `map` holding every node the window scans, or `None`
     /// when it scans none.
     pub fn tiles(&self, map: &HeightMap) -> Option<TileRect> {
-        let mut b: Option<[usize; 4]> = None;
-        for j in self.j0..=self.j1 {
-            for (i0, i1) in self.runs(j) {
-                let v = b.get_or_insert([i0, i1, j, j]);
-                *v = [v[0].min(i0), v[1].max(i1), v[2].min(j), v[3].max(j)];
-            }
+        self.node_box()
+            .map(|[i0, i1, j0, j1]| map.tile_rect(i0, i1, j0, j1))
+    }
+
+    /// The box `[i0, i1, j0, j1]` of every node the window scans, or `None`
+    /// when it scans none: each row's first and last node outside its gap,
+    /// read off the row and the gap (what [`Window::runs`] would walk; its
+    /// chained runs cost some 50 instructions a row here, 1.7 % of a
+    /// cutterhead's step).
+    fn node_box(&self) -> Option<[usize; 4]> {
+        let (mut lo, mut hi, mut jl, mut jh) = (usize::MAX, 0, usize::MAX, 0);
+        for (k, row) in self.rows.iter().enumerate() {
+            let Some((i0, i1)) = *row else { continue };
+            let (a, b) = match self.gaps.get(k).copied().flatten() {
+                None => (i0, i1),
+                // the runs are [i0, g0 - 1] if g0 > i0 and [g1 + 1, i1] if
+                // g1 < i1
+                Some((g0, g1)) => match (g0 > i0, g1 < i1) {
+                    (true, true) => (i0, i1),
+                    (true, false) => (i0, g0 - 1),
+                    (false, true) => (g1 + 1, i1),
+                    (false, false) => continue,
+                },
+            };
+            let j = self.j0 + k;
+            (lo, hi, jl, jh) = (lo.min(a), hi.max(b), jl.min(j), jh.max(j));
         }
-        b.map(|[i0, i1, j0, j1]| map.tile_rect(i0, i1, j0, j1))
+        (jl <= jh).then_some([lo, hi, jl, jh])
     }
 
     /// The node range of row `j` (gap included), or `None`.
@@ -1060,8 +1080,63 @@ pub fn would_cut(map: &HeightMap, disc: &PosedDisc, elastic_depth: f64) -> bool 
 
 #[cfg(test)]
 mod tests {
-    use super::{Bounds, Front};
+    use super::{Bounds, Front, Window};
     use crate::core::heightmap::Grid;
+
+    /// A window's node box (the tiles a cut takes) is the box of the runs
+    /// it walks, row by row, on windows with and without gaps: gaps inside
+    /// a row, at either end, over a whole row and over none, and rows with
+    /// no nodes.
+    #[test]
+    fn a_windows_node_box_is_the_box_of_its_runs() {
+        let mut next = crate::core::uniforms(0x2545_f491_4f6c_dd1d_u64);
+        let mut pick = |n: usize| ((next() * n as f64) as usize).min(n - 1);
+        let (mut gapped, mut empty) = (0, 0);
+        for _ in 0..20000 {
+            let j0 = pick(50);
+            let n = 1 + pick(12);
+            let rows: Vec<Option<(usize, usize)>> = (0..n)
+                .map(|_| {
+                    (pick(5) > 0).then(|| {
+                        let i0 = pick(40);
+                        (i0, i0 + pick(8))
+                    })
+                })
+                .collect();
+            let gaps: Vec<Option<(usize, usize)>> = if pick(3) == 0 {
+                Vec::new()
+            } else {
+                rows.iter()
+                    .map(|r| {
+                        r.filter(|_| pick(3) > 0).map(|(i0, i1)| {
+                            let g0 = i0 + pick(i1 - i0 + 1);
+                            (g0, g0 + pick(i1 - g0 + 1))
+                        })
+                    })
+                    .collect()
+            };
+            gapped += usize::from(gaps.iter().any(Option::is_some));
+            let w = Window {
+                j0,
+                j1: j0 + n - 1,
+                rows,
+                gaps,
+            };
+            let mut b: Option<[usize; 4]> = None;
+            for j in w.j0..=w.j1 {
+                for (i0, i1) in w.runs(j) {
+                    let v = b.get_or_insert([i0, i1, j, j]);
+                    *v = [v[0].min(i0), v[1].max(i1), v[2].min(j), v[3].max(j)];
+                }
+            }
+            empty += usize::from(b.is_none());
+            assert_eq!(w.node_box(), b, "{w:?}");
+        }
+        assert!(
+            gapped > 5000 && empty > 10,
+            "{gapped} gapped, {empty} empty"
+        );
+    }
 
     /// The rows a front leaves out ([`Front::rows_within`]) are rows the
     /// window's own bounds find empty, for fronts in every direction

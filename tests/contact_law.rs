@@ -494,8 +494,14 @@ fn a_disc_plunging_every_step_meets_the_csm_force() {
     assert!(worst < 0.01, "plunging: {worst} of F_N(p) off");
     // held still: the rest of the pit is cut, the load stays
     let rest = Twist::new([0.0; 3], [0.0; 3]);
+    let before = m.evaluate(&pose, &rest).unwrap().excavated_volume;
     let held = m.advance(&pose, &rest, 1e-3).unwrap();
-    let f = m.evaluate(&held, &rest).unwrap().normal_force;
+    let o = m.evaluate(&held, &rest).unwrap();
+    assert!(
+        o.excavated_volume > before,
+        "the layer left while plunging is not cut at rest"
+    );
+    let f = o.normal_force;
     eprintln!("plunging: worst {worst:.2e} of F_N(p); held {f:.0} N after {last:.0} N");
     assert!(
         (f / last - 1.0).abs() < 0.02,

@@ -55,17 +55,42 @@ pub struct Front {
     pub limit: f64,
 }
 
-/// Velocity of the disc's lowest point when its frame moves with
+/// Velocity of the disc's lowest point `low` when its frame moves with
 /// `velocity` and angular velocity `omega` (the spin about the axle moves
 /// no part of the solid).
 fn lowest_point_velocity(
     disc: &PosedDisc,
+    low: &nalgebra::Vector3<f64>,
     velocity: &nalgebra::Vector3<f64>,
     omega: &nalgebra::Vector3<f64>,
 ) -> nalgebra::Vector3<f64> {
     let axle = disc.rot.column(1).into_owned();
     let w = omega - axle * omega.dot(&axle);
-    velocity + w.cross(&(disc.lowest_point() - disc.centre))
+    velocity + w.cross(&(low - disc.centre))
+}
+
+/// How far a cut of `disc` whose frame moves with `velocity` and angular
+/// velocity `omega` reaches: its [`Front`] ([`Front::of`]) and how much more
+/// than the elastic layer it leaves over the disc (`plunge_lag`), from
+/// the lowest point and its velocity found once; no front and no lag with
+/// a plastic fraction below 1.
+pub fn cut_reach(
+    disc: &PosedDisc,
+    velocity: &nalgebra::Vector3<f64>,
+    omega: &nalgebra::Vector3<f64>,
+    grid: &Grid,
+    numerics: &Numerics,
+    plastic_fraction: f64,
+) -> (Option<Front>, f64) {
+    if plastic_fraction != 1.0 {
+        return (None, 0.0);
+    }
+    let low = disc.lowest_point();
+    let v = lowest_point_velocity(disc, &low, velocity, omega);
+    (
+        Front::at(disc, &low, &v, grid, numerics),
+        plunge_lag(&v, numerics),
+    )
 }
 
 /// Descent (the downward share of the lowest point's velocity) from which
@@ -74,10 +99,11 @@ fn lowest_point_velocity(
 const PLUNGE_FROM: f64 = 0.447_213_595_499_958; // 1 / sqrt(5)
 
 /// How far above a disc plunging into the rock its cut stops \[m\], on top
-/// of the elastic layer: half a sweep step for a disc going straight down,
-/// blended in from a descent of 1 in 2 (`PLUNGE_FROM`, where the cut stops
-/// being bounded ahead, [`Front::of`]) to twice that; 0 for any other
-/// motion, and with a plastic fraction below 1.
+/// of the elastic layer, its lowest point moving with `v`: half a sweep
+/// step for a disc going straight down, blended in from a descent of 1 in 2
+/// (`PLUNGE_FROM`, where the cut stops being bounded ahead, [`Front::of`])
+/// to twice that; 0 for any other motion (and, in [`cut_reach`], with a
+/// plastic fraction below 1).
 ///
 /// A disc pressed into the rock in Co-Simulation cut its pit to its own
 /// surface at every step (20 um deeper a 1 ms step at 20 mm/s), and the
@@ -91,17 +117,7 @@ const PLUNGE_FROM: f64 = 0.447_213_595_499_958; // 1 / sqrt(5)
 /// reads its arcs up to the uncut face, as the CSM's plunged disc. The rock
 /// left is cut once the disc stops (a disc at rest cuts in full) or rolls
 /// on (its next cuts take it).
-pub fn plunge_lag(
-    disc: &PosedDisc,
-    velocity: &nalgebra::Vector3<f64>,
-    omega: &nalgebra::Vector3<f64>,
-    numerics: &Numerics,
-    plastic_fraction: f64,
-) -> f64 {
-    if plastic_fraction != 1.0 {
-        return 0.0;
-    }
-    let v = lowest_point_velocity(disc, velocity, omega);
+fn plunge_lag(v: &nalgebra::Vector3<f64>, numerics: &Numerics) -> f64 {
     let speed = v.norm();
     // slower than a micrometre a second: at rest
     if speed.is_nan() || speed <= 1e-6 {
@@ -127,11 +143,17 @@ impl Front {
         numerics: &Numerics,
         plastic_fraction: f64,
     ) -> Option<Front> {
-        if plastic_fraction != 1.0 {
-            return None;
-        }
-        let low = disc.lowest_point();
-        let v = lowest_point_velocity(disc, velocity, omega);
+        cut_reach(disc, velocity, omega, grid, numerics, plastic_fraction).0
+    }
+
+    /// [`Front::of`] the disc whose lowest point `low` moves with `v`.
+    fn at(
+        disc: &PosedDisc,
+        low: &nalgebra::Vector3<f64>,
+        v: &nalgebra::Vector3<f64>,
+        grid: &Grid,
+        numerics: &Numerics,
+    ) -> Option<Front> {
         let vh = v.x.hypot(v.y);
         // slower than a micrometre a second: at rest
         if vh.is_nan() || vh <= 1e-6 {

@@ -21,7 +21,7 @@ use super::contact_cutter_heightmap::{contact, Contact};
 use super::contact_thesis::contact_thesis;
 use super::csm::CsmLaw;
 use super::cut_cutter_heightmap::{
-    cut, cut_patch, node_window, plunge_lag, would_cut, Back, CutStats, Front, Window,
+    cut, cut_patch, cut_reach, node_window, would_cut, Back, CutStats, Front, Window,
 };
 use super::cutter::PosedDisc;
 use super::error::Result;
@@ -56,7 +56,7 @@ pub struct Disc {
 
 /// A cut a disc made: on which map history ([`HeightMap::lineage`]), at
 /// which pose, how far ahead, how much rock it left over the disc
-/// ([`cut_leave`]: the elastic layer, more for a plunging disc) and with
+/// ([`cut_limits`]: the elastic layer, more for a plunging disc) and with
 /// which plastic fraction.
 #[derive(Debug, Clone, Copy)]
 struct CutRecord {
@@ -273,7 +273,7 @@ impl Disc {
     }
 
     /// Keeps the cut just made on `map`, which left the rock `leave` over
-    /// the disc ([`cut_leave`]), for the next one's [`Back`].
+    /// the disc ([`cut_limits`]), for the next one's [`Back`].
     fn record_cut(
         &self,
         map: &HeightMap,
@@ -308,9 +308,8 @@ impl Disc {
         params: &Params,
     ) -> bool {
         let disc = self.posed(pose);
-        let front = cut_front(&face.map, &disc, twist, params);
+        let (front, leave) = cut_limits(&face.map, &disc, twist, params);
         let back = self.cut_back(&face.map, &disc, params);
-        let leave = cut_leave(&disc, twist, params);
         let stats = cut(
             &mut face.map,
             &disc,
@@ -328,40 +327,30 @@ impl Disc {
     }
 }
 
-/// How far ahead of `disc` moving with `twist` its cut reaches
-/// ([`Front::of`]); `None` (whole cuts) when `numerics.cut_ahead` asks for
-/// them.
-fn cut_front(map: &HeightMap, disc: &PosedDisc, twist: &Twist, params: &Params) -> Option<Front> {
-    if params.numerics.cut_ahead {
-        return None;
+/// How far `disc` moving with `twist` cuts: how far ahead its cut reaches
+/// and how much rock it leaves over the disc (`cut_reach`: its [`Front`],
+/// and the elastic layer plus, for a disc plunging into the rock, half a
+/// sweep step); no front and the elastic layer alone when
+/// `numerics.cut_ahead` asks for whole cuts.
+fn cut_limits(
+    map: &HeightMap,
+    disc: &PosedDisc,
+    twist: &Twist,
+    params: &Params,
+) -> (Option<Front>, f64) {
+    let n = &params.numerics;
+    if n.cut_ahead {
+        return (None, n.elastic_depth);
     }
-    Front::of(
+    let (front, lag) = cut_reach(
         disc,
         &twist.velocity,
         &twist.omega,
         map.grid(),
-        &params.numerics,
-        params.rock.plastic_fraction,
-    )
-}
-
-/// How far over `disc` moving with `twist` its cut leaves the rock: the
-/// elastic layer, and for a disc plunging into the rock half a sweep step
-/// more ([`plunge_lag`]; not with `numerics.cut_ahead`, which asks for
-/// whole cuts).
-fn cut_leave(disc: &PosedDisc, twist: &Twist, params: &Params) -> f64 {
-    let n = &params.numerics;
-    if n.cut_ahead {
-        return n.elastic_depth;
-    }
-    let lag = plunge_lag(
-        disc,
-        &twist.velocity,
-        &twist.omega,
         n,
         params.rock.plastic_fraction,
     );
-    n.elastic_depth + lag
+    (front, n.elastic_depth + lag)
 }
 
 /// A cut's window and the tiles it scans, if it scans any.
@@ -887,16 +876,16 @@ fn cut_together(
         .iter()
         .map(|&i| (discs[i].cut_record.get(), &motions[i].1))
         .collect();
-    // (each disc's front with the layer its cut leaves, `cut_leave`)
+    // (each disc's front with the layer its cut leaves, `cut_limits`)
     let (fronts, windows): (Vec<(Option<Front>, f64)>, Vec<WindowTiles>) = posed
         .par_iter()
         .zip(records.par_iter())
         .map(|(d, &(record, twist))| {
-            let front = cut_front(map, d, twist, params);
+            let (front, leave) = cut_limits(map, d, twist, params);
             let back = back_after(record, map, d, params);
             let window =
                 node_window(map, d, front, back).and_then(|w| w.tiles(map).map(|r| (w, r)));
-            ((front, cut_leave(d, twist, params)), window)
+            ((front, leave), window)
         })
         .unzip();
     let mut wave = vec![0usize; group.len()];

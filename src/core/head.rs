@@ -258,8 +258,9 @@ impl Head {
                         };
                         if name.starts_with("cutter.") || name == "csm.spacing" {
                             KerfError::Layout(format!(
-                                "parameter cutter[{}].{key} = {value}: {why}",
-                                k + 1
+                                "parameter cutter[{}].{key} = {}: {why}",
+                                k + 1,
+                                crate::core::error::Compact(value)
                             ))
                         } else {
                             KerfError::BadParameter { name, value, why }

@@ -43,13 +43,22 @@ pub const MAX_POSITION: f64 = 1.0e6;
 /// Speeds above this \[m/s\] or spins above this \[rad/s\] are rejected.
 pub const MAX_SPEED: f64 = 1.0e4;
 
-fn check(name: &'static str, v: f64, bound: f64) -> Result<()> {
+/// `v` finite and within `bound` of zero; `allowed` says so in the error.
+fn check(name: &'static str, v: f64, bound: f64, allowed: &'static str) -> Result<()> {
     if v.is_finite() && v.abs() <= bound {
         Ok(())
     } else {
-        Err(KerfError::BadInput { name, value: v })
+        Err(KerfError::BadInput {
+            name,
+            value: v,
+            allowed,
+        })
     }
 }
+
+const POSITION_RANGE: &str = "at most 1e6 m from the origin";
+const ANGLE_RANGE: &str = "at most 1e3 rad";
+const SPEED_RANGE: &str = "at most 1e4 m/s or rad/s";
 
 impl Pose {
     pub fn new(x: f64, y: f64, z: f64, yaw: f64, pitch: f64, roll: f64) -> Self {
@@ -102,12 +111,12 @@ impl Pose {
 
     /// Rejects non-finite or absurd values (angles beyond 1e3 rad included).
     pub fn validate(&self) -> Result<()> {
-        check("x", self.position.x, MAX_POSITION)?;
-        check("y", self.position.y, MAX_POSITION)?;
-        check("z", self.position.z, MAX_POSITION)?;
-        check("yaw", self.yaw, 1.0e3)?;
-        check("pitch", self.pitch, 1.0e3)?;
-        check("roll", self.roll, 1.0e3)
+        check("x", self.position.x, MAX_POSITION, POSITION_RANGE)?;
+        check("y", self.position.y, MAX_POSITION, POSITION_RANGE)?;
+        check("z", self.position.z, MAX_POSITION, POSITION_RANGE)?;
+        check("yaw", self.yaw, 1.0e3, ANGLE_RANGE)?;
+        check("pitch", self.pitch, 1.0e3, ANGLE_RANGE)?;
+        check("roll", self.roll, 1.0e3, ANGLE_RANGE)
     }
 }
 
@@ -137,12 +146,12 @@ impl Twist {
     }
 
     pub fn validate(&self) -> Result<()> {
-        check("vx", self.velocity.x, MAX_SPEED)?;
-        check("vy", self.velocity.y, MAX_SPEED)?;
-        check("vz", self.velocity.z, MAX_SPEED)?;
-        check("wx", self.omega.x, MAX_SPEED)?;
-        check("wy", self.omega.y, MAX_SPEED)?;
-        check("wz", self.omega.z, MAX_SPEED)
+        check("vx", self.velocity.x, MAX_SPEED, SPEED_RANGE)?;
+        check("vy", self.velocity.y, MAX_SPEED, SPEED_RANGE)?;
+        check("vz", self.velocity.z, MAX_SPEED, SPEED_RANGE)?;
+        check("wx", self.omega.x, MAX_SPEED, SPEED_RANGE)?;
+        check("wy", self.omega.y, MAX_SPEED, SPEED_RANGE)?;
+        check("wz", self.omega.z, MAX_SPEED, SPEED_RANGE)
     }
 }
 

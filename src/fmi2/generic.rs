@@ -19,6 +19,7 @@ use super::machine::{
     EVENT_SLACK, TIME_EVENT_SWEEPS, TIME_TOLERANCE,
 };
 use super::md::Causality;
+use crate::core::error::Compact;
 
 use Mode::*;
 
@@ -282,7 +283,11 @@ impl<M: FmuModel> Fmi<M> {
         }
         if let Some(stop) = stop {
             if !(stop.is_finite() && stop >= start) {
-                return Err(format!("fmi2SetupExperiment: stopTime = {stop} is not a finite time >= startTime = {start}"));
+                return Err(format!(
+                    "fmi2SetupExperiment: stopTime = {} is not a finite time >= startTime = {}",
+                    Compact(stop),
+                    Compact(start)
+                ));
             }
         }
         let _ = tolerance; // no internal solver: nothing to tune

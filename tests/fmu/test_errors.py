@@ -146,6 +146,26 @@ def test_nonfinite_input_me_is_an_error(make, name, value):
     assert inst.get_reals(kh.REAL_OUTPUTS) == good
 
 
+@pytest.mark.parametrize("name,value,shown,allowed", [
+    ("vx", 1e300, "1e300", "at most 1e4 m/s"),
+    ("z", -1e30, "-1e30", "at most 1e6 m from the origin"),
+    ("roll", 5e3, "5000", "at most 1e3 rad"),
+])
+def test_absurd_finite_input_names_its_value_and_range(make, name, value, shown, allowed):
+    """A finite but absurd input is refused at the step, with a message a user
+    can read: the input, its value in short form (not 301 digits) and the
+    values it may take."""
+    inst = make("CS")
+    t = start_line(inst, n=5)
+    inst.set_reals([name], [value])
+    before = len(inst.log)
+    with pytest.raises(kh.FMICallException) as e:
+        inst.f.doStep(currentCommunicationPoint=t, communicationStepSize=H)
+    assert e.value.status == kh.FMI2_ERROR
+    msgs = assert_error_logged(inst, f"input {name} = {shown} ", allowed, before=before)
+    assert all(len(m) < 200 for m in msgs), msgs
+
+
 # --------------------------------------------------------------------------- state machine
 
 def raw(inst, fname, argtypes, *args):

@@ -1,0 +1,184 @@
+//! The circles of the disc's surface that the query walks (`Circle`,
+//! `surface_circles`): the tip's rim slices, the side faces' rings and the
+//! flanks' bands, and the parts of each below the rock's top.
+
+use super::*;
+
+/// On a moving disc, a side of a circle whose surface drives into the rock
+/// over less than this many cells of its rim in all (within its reach)
+/// carries no load, and need not be walked (`contact`). A disc that rolls
+/// while it advances into the face (every disc of a boring head) drives the
+/// trailing side of each circle within `v_advance / v_rolling` rad of its
+/// lowest point, on rock it has just cut: 0.3 mm/s against 0.6 m/s on the
+/// reference head's track of 2 m, 5e-4 rad, 0.1 mm of rim. Those slivers
+/// changed no disc's mean force by more than 1e-11 of itself over 300 steps
+/// of the reference head, while walking them was an eighth of its step; a
+/// sliver ten times longer (1e-2 rad) moves the centre disc by 0.45 %.
+/// Set in cells, the sliver shrinks with them: a finer run drops less.
+pub const DRIVE_SLIVER_CELLS: f64 = 0.2;
+
+/// A side whose blend weight cannot exceed this is not refined: its arcs
+/// change the force by less than this fraction.
+pub(super) const NEGLIGIBLE_WEIGHT: f64 = 1e-14;
+
+/// Most rings sampled across a tilted disc's side face (midpoint rule in
+/// the radius; each ring's arcs are exact).
+pub(super) const MAX_RINGS: usize = 24;
+
+/// Most bands sampled along each flank (midpoint rule along the flank;
+/// each band's arcs are exact).
+pub(super) const MAX_FLANK_BANDS: usize = 24;
+
+/// Most samples added by splitting strips (two a strip).
+pub(super) const MAX_SUB: usize = 16;
+
+/// Room for every circle: rim slices, rings, flank bands and the samples of
+/// split strips.
+pub(super) const MAX_CIRCLES: usize = 101 + 2 * MAX_RINGS + 2 * MAX_FLANK_BANDS + MAX_SUB;
+
+/// The radii `[r_lo, r_hi]` of the side face on `side` (the hub face with
+/// flanks, at `y = side W/2`) whose circles reach below `z_top`: a circle
+/// of radius `r` reaches down to `centre.z + a_z side W/2 - m r`. `None`
+/// when the whole face is above `z_top`.
+pub fn face_below(disc: &PosedDisc, side: f64, z_top: f64) -> Option<(f64, f64)> {
+    let hw = disc.hub_half_width;
+    let r_hi = disc.rho_full(hw);
+    let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
+    let r_lo = if m > 1e-12 {
+        ((disc.centre.z + disc.rot[(2, 1)] * side * hw - z_top) / m).max(0.0)
+    } else {
+        0.0
+    };
+    (r_lo < r_hi).then_some((r_lo, r_hi))
+}
+
+/// The part `[s_lo, s_hi]` of the flank on `side` (`s` the distance along
+/// the flank from the tip's edge) whose circles reach below `z_top`: the
+/// lowest point of a circle about the axle is `centre.z + a_z y - m rho`,
+/// linear in `s` along the straight flank. `None` without flanks or when
+/// the whole flank is above `z_top`.
+pub fn flank_below(disc: &PosedDisc, side: f64, z_top: f64) -> Option<(f64, f64)> {
+    if !disc.has_flanks() {
+        return None;
+    }
+    let (h, hw) = (disc.half_width, disc.hub_half_width);
+    let (sn, cn) = disc.flank_normal();
+    // on the flank at angle f, y = side (h + s sin f), rho = rho(h) - s cos f
+    let len = (hw - h) / sn;
+    let m = disc.rot[(2, 0)].hypot(disc.rot[(2, 2)]);
+    let az = disc.rot[(2, 1)];
+    let z0 = disc.centre.z + az * side * h - m * disc.rho(h);
+    let k = az * side * sn + m * cn;
+    let (mut lo, mut hi) = (0.0f64, len);
+    if k > 1e-15 {
+        hi = hi.min((z_top - z0) / k);
+    } else if k < -1e-15 {
+        lo = lo.max((z_top - z0) / k);
+    } else if z0 >= z_top {
+        return None;
+    }
+    (hi > lo).then_some((lo, hi))
+}
+
+/// A circle of the disc's surface about the axle that the query walks.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Circle {
+    /// Axle coordinate and radius.
+    pub(super) y: f64,
+    pub(super) radius: f64,
+    /// Strip width across the tip (rim) or band width (ring).
+    pub(super) width: f64,
+    /// 0 for a rim slice, the face's side (+1 / -1) for a ring or a flank.
+    pub(super) face: f64,
+    /// A flank band (`width` is then its width along the flank).
+    pub(super) flank: bool,
+    /// A rim sample of a split strip: its depth counts in full (not in
+    /// proportion to its width) in the side blend.
+    pub(super) sub: bool,
+}
+
+impl Circle {
+    /// A ring of a side face (not a rim slice, not a flank band).
+    pub(super) fn is_ring(&self) -> bool {
+        self.face != 0.0 && !self.flank
+    }
+
+    /// The surface element of the law on this circle.
+    pub(super) fn element(&self, disc: &PosedDisc, motion: &Motion) -> Element {
+        if self.face == 0.0 {
+            Element::rim(disc, self.y, self.width, motion)
+        } else if self.flank {
+            Element::flank(disc, self.y, self.width, motion)
+        } else {
+            Element::ring(disc, self.face, self.radius, self.width, motion)
+        }
+    }
+}
+
+/// The circles of the disc's surface the query walks: the `n` rim slices,
+/// then rings on each side face (the hub faces with flanks) over the part of
+/// it that reaches below `z_top` (when `rings`: the faces carry load), then
+/// bands along the flanks, written from the start of `circles`; returns
+/// their count. (Filled in place: the array is some 10 kB.)
+pub(super) fn surface_circles(
+    circles: &mut [Circle; MAX_CIRCLES],
+    disc: &PosedDisc,
+    n: usize,
+    z_top: f64,
+    cell: f64,
+    rings: bool,
+) -> usize {
+    let h = disc.half_width;
+    let mut nc = 0;
+    for k in 0..n {
+        let y = slice_y(h, n, k);
+        circles[nc] = Circle {
+            y,
+            radius: disc.rho(y),
+            width: 2.0 * h / n as f64,
+            face: 0.0,
+            flank: false,
+            sub: false,
+        };
+        nc += 1;
+    }
+    for side in [1.0f64, -1.0] {
+        let Some((r_lo, r_hi)) = face_below(disc, side, z_top).filter(|_| rings) else {
+            continue;
+        };
+        let nr = (((r_hi - r_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_RINGS);
+        let dr = (r_hi - r_lo) / nr as f64;
+        for j in 0..nr {
+            circles[nc] = Circle {
+                y: side * h,
+                radius: r_lo + dr * (j as f64 + 0.5),
+                width: dr,
+                face: side,
+                flank: false,
+                sub: false,
+            };
+            nc += 1;
+        }
+    }
+    for side in [1.0f64, -1.0] {
+        if let Some((s_lo, s_hi)) = flank_below(disc, side, z_top) {
+            let (sn, _) = disc.flank_normal();
+            let nb = (((s_hi - s_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_FLANK_BANDS);
+            let ds = (s_hi - s_lo) / nb as f64;
+            for j in 0..nb {
+                let s = s_lo + ds * (j as f64 + 0.5);
+                let y = side * (h + s * sn);
+                circles[nc] = Circle {
+                    y,
+                    radius: disc.rho_full(y),
+                    width: ds,
+                    face: side,
+                    flank: true,
+                    sub: false,
+                };
+                nc += 1;
+            }
+        }
+    }
+    nc
+}

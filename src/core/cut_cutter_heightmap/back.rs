@@ -1,0 +1,511 @@
+//! The box behind a rolling disc whose nodes its last cut already took as
+//! low as this one would ([`Back`]), for upright and tilted discs.
+
+use super::*;
+
+/// What a rolling disc's cut need not visit behind it: a box in plan
+/// about its heading, from `s[0]` to `s[1]` along the heading `u` from the
+/// disc centre `c`, within `half` of the centre plane across it.
+///
+/// Behind its lowest point a rolling disc's surface rises, so the rock its
+/// last cut left there lies below it still, and a cut walked those nodes
+/// (most of a cut's window: the back arc of a 19 in disc 6 mm deep is 54 mm
+/// long, a sweep step 1 mm) only to lower none. [`Back::of`] finds, from the
+/// pose `prev` of the disc's last cut on this map and the pose now, a box
+/// in which that holds by the geometry alone, so that skipping it leaves
+/// the face bit for bit as a whole cut does (`tests/cut_back.rs` holds that
+/// on every path a cutterhead makes).
+///
+/// The argument, for an axle horizontal at both poses (a face disc; a
+/// tilted disc's box is `Back::tilted`'s): the solid is convex, so its
+/// lower boundary `f'` at the last pose is a convex function in plan, and
+/// the solid now is the last one moved by a turn `alpha` about the
+/// vertical and a shift: the boundary now at `x` is `f'(x')` (`x'` the
+/// point that moved to `x`) plus the rise `t_z`. Every node the last cut
+/// scanned lies no higher than `f'` plus the elastic layer (a cut only
+/// lowers, and so do the cuts of other discs and chips since), so a node
+/// at `x` can fall now only if
+/// `f'(x') + t_z < f'(x)`. By convexity `f'(x') >= f'(x) - grad f'(x) . D`
+/// (`D = x - x'`); with `s'` the distance along the heading from the last
+/// centre (negative behind it), `Q = sqrt(rho^2 - s'^2)` and `S` the
+/// largest slope of the disc's section, `grad f' . D = (s' D_u - rho
+/// rho' D_l) / Q <= (-|s'| D_u + R S |D_l|) / Q`, so nodes where
+/// `|s'| D_u >= R S |D_l| + R max(-t_z, 0)` keep their height. `D_u` (the
+/// travel along the heading) and `|D_l|` (across it: crabbing, and `alpha
+/// s` from the turn) are bounded over the disc, which gives the distance
+/// `b` behind the centre from which that holds; across, the box keeps
+/// clear of the last cut's side edges (`half`), and it lies where the last
+/// cut reached (inside its [`Front`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Back {
+    pub(super) c: (f64, f64),
+    pub(super) u: (f64, f64),
+    pub(super) s: [f64; 2],
+    pub(super) half: f64,
+    /// For a tilted disc, the part of the box inside its core ([`Core`]).
+    pub(super) core: Option<Core>,
+}
+
+/// The plan of a tilted disc's core (`|y| <= h`, `|q_xz| <= rho(h)`) about
+/// the box's centre and heading: `(max(|l| - h_l, 0) / b)^2 + (s / a)^2
+/// <= 1`, `s` along the heading and `l` across it; `a` and `b` shrunk by a
+/// part in 1e9 and `h_l` by 1 nm, so that every point of it lies strictly
+/// inside.
+///
+/// With a `hole`, the part of it over the lower side face is walked: the
+/// face's plan, the ellipse `((l - l_c) / b_h)^2 + (s / a_h)^2 <= 1`, grown
+/// by 1 nm, so that every point left out lies strictly outside it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Core {
+    pub(super) a: f64,
+    pub(super) b: f64,
+    pub(super) h_l: f64,
+    pub(super) hole: Option<Hole>,
+}
+
+/// The lower side face's plan in a [`Core`]: centre `l_c` across the
+/// heading, half-axes `a_h` along it and `b_h` across.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Hole {
+    pub(super) l_c: f64,
+    pub(super) a_h: f64,
+    pub(super) b_h: f64,
+}
+
+impl Back {
+    /// The box for a cut of `disc` after a cut of the same disc at `prev`
+    /// that reached no further than `prev_front` ahead, both with a full
+    /// plastic fraction and the same elastic layer (the caller's to check);
+    /// `None` where the argument does not hold: an axle not horizontal, a
+    /// turn of more than 2.6 deg or too tight for the section's slope (the
+    /// back swinging out faster than it rises), a move that is mostly not
+    /// along the heading, or a box that would reach past `prev_front`.
+    pub fn of(prev: &PosedDisc, prev_front: Option<Front>, disc: &PosedDisc) -> Option<Back> {
+        let same = prev.radius == disc.radius
+            && prev.half_width == disc.half_width
+            && prev.tip_radius == disc.tip_radius
+            && prev.hub_half_width == disc.hub_half_width
+            && prev.flank_cot == disc.flank_cot;
+        let (a0, a1) = (prev.rot.column(1), disc.rot.column(1));
+        if !same {
+            return None;
+        }
+        if a0.z.abs() > 1e-12 || a1.z.abs() > 1e-12 {
+            return Self::tilted(prev, disc).filter(|b| b.behind(prev_front));
+        }
+        let (r, h, rt, hw) = (
+            disc.radius,
+            disc.half_width,
+            disc.tip_radius,
+            disc.hub_half_width,
+        );
+        if h >= rt {
+            return None;
+        }
+        // largest slope of the section's radius across the axle
+        let slope = (h / (rt * rt - h * h).sqrt()).max(if disc.has_flanks() {
+            disc.flank_cot
+        } else {
+            0.0
+        });
+        let (n0, n1) = (a0.x.hypot(a0.y), a1.x.hypot(a1.y));
+        let (l0, l1) = ((a0.x / n0, a0.y / n0), (a1.x / n1, a1.y / n1));
+        // the turn from the last axle to this one (an axle turned end for
+        // end is the same solid)
+        let (mut cos_a, mut sin_a) = (l0.0 * l1.0 + l0.1 * l1.1, l0.0 * l1.1 - l0.1 * l1.0);
+        if cos_a < 0.0 {
+            (cos_a, sin_a) = (-cos_a, -sin_a);
+        }
+        if cos_a.is_nan() || cos_a < 0.999 {
+            return None;
+        }
+        // the heading, the way the centre moved
+        let (dx, dy) = (disc.centre.x - prev.centre.x, disc.centre.y - prev.centre.y);
+        let t_z = disc.centre.z - prev.centre.z;
+        let mut u = (l1.1, -l1.0);
+        let mut d_u = dx * u.0 + dy * u.1;
+        if d_u < 0.0 {
+            u = (-u.0, -u.1);
+            d_u = -d_u;
+        }
+        let d_l = (dx * -u.1 + dy * u.0).abs();
+        let dn = dx.hypot(dy);
+        // |alpha| (asin x <= 1.001 x for cos >= 0.999, rounded up)
+        let aa = 1.01 * sin_a.abs();
+        let c1 = 1.0 - cos_a;
+        // how far a point of the solid lies from its centre in plan
+        let reach = r.hypot(hw);
+        let d_max = dn + (c1 + aa) * reach;
+        // least D_u, and |D_l| <= l0 + aa |s|, over the solid (in the last
+        // pose's frame: its axes are turned by alpha from these)
+        let du_min = d_u - c1 * reach - aa * hw - aa * d_max;
+        let l_0 = d_l + c1 * hw + aa * d_max;
+        // |s'| >= |s| - d_u - e
+        let e = aa * (reach + dn);
+        let k = du_min - r * slope * aa;
+        if !(du_min > 0.0 && k >= 0.25 * du_min) {
+            return None;
+        }
+        let b = (r * slope * l_0 + r * (-t_z).max(0.0) + (d_u + e) * du_min) / k;
+        let b = 1.05 * b + 1e-9;
+        // across: the last cut's solid covers the box's width; along: its
+        // section reaches the box's far end
+        let half = hw - (d_l + aa * (reach + dn)) - 1e-9;
+        let far = disc.rho_full(hw) + d_u - e - 1e-9;
+        if !(half > 0.0 && far > b) {
+            return None;
+        }
+        let back = Back {
+            c: (disc.centre.x, disc.centre.y),
+            u,
+            s: [-far, -b],
+            half,
+            core: None,
+        };
+        back.behind(prev_front).then_some(back)
+    }
+
+    /// Whether the box lies behind the front of the last cut, which then
+    /// scanned all of it.
+    pub(super) fn behind(&self, prev_front: Option<Front>) -> bool {
+        prev_front.is_none_or(|f| {
+            self.corners()
+                .iter()
+                .all(|p| p.0 * f.dir.0 + p.1 * f.dir.1 <= f.limit)
+        })
+    }
+
+    /// [`Back::of`] for a disc whose axle is not horizontal (a gauge
+    /// cutter), before the front is checked: the argument above without
+    /// the section's slope, which a tilted disc's lower boundary does not
+    /// bound (it is steep at the disc's lowest point, on its silhouette).
+    ///
+    /// The solid now is the last one turned by `alpha` about the vertical
+    /// and shifted (both axles rise alike; a disc is the same solid
+    /// whatever its spin), so its lower boundary is `f(x) = f'(x') + t_z`
+    /// at `x`, and by convexity `f(x) >= f'(x)` wherever `n . V <= 0`, `n`
+    /// the outward normal of the last solid's lower boundary over `x` and
+    /// `V = (D, t_z)`, `D = x - x'`, how the solid moved there (`D` is
+    /// affine in `x`). That point is on the tip (the torus `|y| <= h`), on
+    /// the lower side face, or on the edge between them, whose normals are
+    /// the two's mixtures:
+    /// - on the tip, `n = cos(psi) e(theta) + sin(psi) a` with `|psi| <=
+    ///   asin(h / r_t)`; along the last heading `n_u = cos(psi) sin(theta)
+    ///   = cos(psi) s' / rho <= -cos(psi_max) |s'| / R` behind the last
+    ///   centre (`s' < 0`), across it `|n_l| <= N_l = |a_z| + sin(psi_max)
+    ///   |a_l|`, and `n_z t_z <= max(-t_z, 0)`. With `D_u >= D_min` over
+    ///   the box and `|D_l| <= d_l + k |s'|` (the turn's share grows with
+    ///   the distance behind), `n . V <= 0` from `s' <= -b'`, `b' = (N_l
+    ///   d_l + max(-t_z, 0)) / (cos(psi_max) D_min / R - N_l k)`;
+    /// - on the lower side face `n = -sign(a_z) a`, and `n . V` is checked
+    ///   at the box's corners: the face moving in its own plane or away from
+    ///   the rock under it (a turn one way). The other way, or a tilted disc
+    ///   diving or crabbing into its lower face's side, the nodes over the
+    ///   face are walked (the [`Core`]'s hole: the face's plan, an ellipse,
+    ///   over which the lower boundary is the face), and only those over the
+    ///   tip are left out. A gauge cutter leaning out from its head's axis
+    ///   turns that way: the back of its lower face swings out into the
+    ///   wall it shaves, while its tip's back still rises from its groove.
+    ///
+    /// The box is taken in the last pose's frame, and only its part inside
+    /// the plan of the last solid's core ([`Core`]: the two tip edges'
+    /// ellipses and the band between) is left out: there `f'` is finite
+    /// and has a slope. Flank-less discs only. `tests/cut_back.rs` holds
+    /// the claim node by node against the two solids.
+    pub(super) fn tilted(prev: &PosedDisc, disc: &PosedDisc) -> Option<Back> {
+        if disc.has_flanks() || disc.half_width >= disc.tip_radius {
+            return None;
+        }
+        let (r, h, rt) = (disc.radius, disc.half_width, disc.tip_radius);
+        let a0 = prev.rot.column(1).into_owned();
+        let mut a1 = disc.rot.column(1).into_owned();
+        // (an axle turned end for end is the same solid)
+        if a0.dot(&a1) < 0.0 {
+            a1 = -a1;
+        }
+        let (n0, n1) = (a0.x.hypot(a0.y), a1.x.hypot(a1.y));
+        if (a1.z - a0.z).abs() > 1e-12 || !(n0 > 1e-6 && n1 > 1e-6) {
+            return None;
+        }
+        let (l0, l1) = ((a0.x / n0, a0.y / n0), (a1.x / n1, a1.y / n1));
+        let (cos_a, sin_a) = (l0.0 * l1.0 + l0.1 * l1.1, l0.0 * l1.1 - l0.1 * l1.0);
+        if cos_a.is_nan() || cos_a < 0.999 {
+            return None;
+        }
+        let (c0, c1) = (prev.centre, disc.centre);
+        let (dx, dy) = (c1.x - c0.x, c1.y - c0.y);
+        let t_z = c1.z - c0.z;
+        // the last heading (horizontal in the last disc's plane), along
+        // the travel, and across it
+        let mut u = (l0.1, -l0.0);
+        if dx * u.0 + dy * u.1 < 0.0 {
+            u = (-u.0, -u.1);
+        }
+        let w = (-u.1, u.0);
+        let (ax_l, ax_z) = (a0.x * w.0 + a0.y * w.1, a0.z);
+        // the move `(D_u, D_l)` of the point at `(s', l')` of the last
+        // frame: now at x, it was at `x' = c0 + R(-alpha) (x - c1)`
+        let moved = |sp: f64, lp: f64| {
+            let (x, y) = (c0.x + sp * u.0 + lp * w.0, c0.y + sp * u.1 + lp * w.1);
+            let (vx, vy) = (x - c1.x, y - c1.y);
+            let (mx, my) = (
+                x - c0.x - cos_a * vx - sin_a * vy,
+                y - c0.y + sin_a * vx - cos_a * vy,
+            );
+            (mx * u.0 + my * u.1, mx * w.0 + my * w.1)
+        };
+        let corners = |s: [f64; 2], half: f64| {
+            [(s[0], -half), (s[0], half), (s[1], -half), (s[1], half)].map(|(sp, lp)| moved(sp, lp))
+        };
+        // the core's plan, and the box about it from 0.45 rho_h behind the
+        // centre (a 19 in gauge disc 6 mm deep and tilted 10 deg reaches
+        // 55 mm)
+        let rho_h = disc.rho(h);
+        let mut core = Core {
+            a: rho_h * (1.0 - 1e-9),
+            b: rho_h * ax_z.abs() * (1.0 - 1e-9),
+            h_l: h * n0 - 1e-9,
+            hole: None,
+        };
+        let half = core.h_l + core.b;
+        let far = 0.45 * rho_h;
+        // the move is affine in the place: `D = D(0) + k_s s' + k_l l'`;
+        // least along the heading over the box, and across it at most
+        // `|D_l(0)| + |k_l| half + |k_s| |s'|` (the turn's share grows with
+        // the distance behind, as the tip's bound does)
+        let d0 = moved(0.0, 0.0);
+        let (ds, dl) = (moved(1.0, 0.0), moved(0.0, 1.0));
+        let (ks, kl) = ((ds.0 - d0.0, ds.1 - d0.1), (dl.0 - d0.0, dl.1 - d0.1));
+        let du_min = d0.0 - ks.0.abs() * far - kl.0.abs() * half;
+        let cos_psi = (rt * rt - h * h).sqrt() / rt;
+        let n_l = (ax_z.abs() + h / rt * n0).min(1.0);
+        let gain = cos_psi * du_min / r - n_l * ks.1.abs();
+        let need = n_l * (d0.1.abs() + kl.1.abs() * half + 1e-15) + (-t_z).max(0.0);
+        if !(du_min > 0.0 && gain > 0.0 && core.b > 0.0 && core.h_l >= 0.0) {
+            return None;
+        }
+        let b = 1.05 * need / gain + 1e-9;
+        if b >= far {
+            return None;
+        }
+        let s = [-far, -b];
+        // the lower side face moves in its plane or away from the rock
+        let lower = -ax_z.signum();
+        let face_clear = corners(s, half)
+            .iter()
+            .all(|&(_, d_l)| lower * (ax_l * d_l + ax_z * t_z) <= 1e-13 * ax_z.abs());
+        if !face_clear {
+            // (the lower face lies at y = -h sign(a_z) on the axle)
+            core.hole = Some(Hole {
+                l_c: -h * ax_z.signum() * ax_l,
+                a_h: rho_h + 1e-9,
+                b_h: rho_h * ax_z.abs() + 1e-9,
+            });
+        }
+        Some(Back {
+            c: (c0.x, c0.y),
+            u,
+            s,
+            half,
+            core: Some(core),
+        })
+    }
+
+    /// The box's corners in plan.
+    pub(super) fn corners(&self) -> [(f64, f64); 4] {
+        let (u, l) = (self.u, (-self.u.1, self.u.0));
+        let at = |s: f64, d: f64| (self.c.0 + s * u.0 + d * l.0, self.c.1 + s * u.1 + d * l.1);
+        [
+            at(self.s[0], -self.half),
+            at(self.s[0], self.half),
+            at(self.s[1], -self.half),
+            at(self.s[1], self.half),
+        ]
+    }
+
+    /// Whether a cut leaves node `(i, j)` of `g` out (for tests that hold
+    /// the box to the solids it comes from, node by node).
+    pub fn leaves_out(&self, g: &Grid, i: usize, j: usize) -> bool {
+        self.gap(g, j, i, i).is_some()
+    }
+
+    /// The nodes of row `j` inside the box, within `i0..=i1`, if any.
+    pub(super) fn gap(&self, g: &Grid, j: usize, i0: usize, i1: usize) -> Option<(usize, usize)> {
+        self.rows().gap(g, j, i0, i1)
+    }
+
+    /// The box's stretch of each row, as bounds affine in the row's `y`
+    /// (found once a cut, read at every row).
+    pub(super) fn rows(&self) -> BackRows {
+        let (u, l) = (self.u, (-self.u.1, self.u.0));
+        BackRows {
+            back: *self,
+            strips: [
+                Strip::new(u.0, u.1, self.s[0], self.s[1]),
+                Strip::new(l.0, l.1, -self.half, self.half),
+            ],
+        }
+    }
+}
+
+/// `a_lo <= k x + m y <= a_hi` on a row `y`, for `|k| > 1e-12`, as bounds on
+/// `x` affine in `y`: `lo + slope y <= x <= hi + slope y`; else the
+/// condition on `y` alone (`k`, `m`, `a_lo`, `a_hi` kept). A window's rows
+/// read each bound with one multiply-add, where a division by `k` each
+/// row was a tenth of a cut's instructions.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Strip {
+    Slope { lo: f64, hi: f64, slope: f64 },
+    Level { m: f64, a_lo: f64, a_hi: f64 },
+}
+
+impl Strip {
+    pub(super) fn new(k: f64, m: f64, a_lo: f64, a_hi: f64) -> Self {
+        if k.abs() > 1e-12 {
+            let (p, q) = (a_lo / k, a_hi / k);
+            Strip::Slope {
+                lo: p.min(q),
+                hi: p.max(q),
+                slope: -m / k,
+            }
+        } else {
+            Strip::Level { m, a_lo, a_hi }
+        }
+    }
+
+    /// `[lo, hi]` clipped to the strip on row `y`; `None` when a level
+    /// strip misses the row.
+    #[inline]
+    pub(super) fn clip(&self, y: f64, lo: f64, hi: f64) -> Option<(f64, f64)> {
+        match *self {
+            Strip::Slope {
+                lo: a,
+                hi: b,
+                slope,
+            } => Some((lo.max(a + slope * y), hi.min(b + slope * y))),
+            Strip::Level { m, a_lo, a_hi } => {
+                let b = y * m;
+                (b >= a_lo && b <= a_hi).then_some((lo, hi))
+            }
+        }
+    }
+}
+
+/// A [`Back`] box ready to clip rows ([`Back::rows`]).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct BackRows {
+    pub(super) back: Back,
+    pub(super) strips: [Strip; 2],
+}
+
+impl BackRows {
+    /// [`Back::gap`].
+    pub(super) fn gap(&self, g: &Grid, j: usize, i0: usize, i1: usize) -> Option<(usize, usize)> {
+        let b = &self.back;
+        let y = g.y_min + g.dy * j as f64 - b.c.1;
+        // x - c.x in [lo, hi]
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for s in &self.strips {
+            (lo, hi) = s.clip(y, lo, hi)?;
+        }
+        if let Some(core) = &b.core {
+            (lo, hi) = core.clip(y, b.u, lo, hi)?;
+        }
+        // rounding: a node on the edge is walked
+        let pad = 1e-9;
+        let x0 = g.x_min - b.c.0;
+        let k0 = ((lo + pad - x0) / g.dx).ceil().max(i0 as f64);
+        let k1 = ((hi - pad - x0) / g.dx).floor().min(i1 as f64);
+        node_pair(k0, k1)
+    }
+}
+
+/// `(k0, k1)` as node indices when `k0 <= k1`: both whole, `k0 >= 0` and
+/// below 2^53 (a row's clipped bounds), so converting through `i64` is exact
+/// and takes less code than the conversion to `usize`, which saturates at
+/// both ends (a window's rows are found for every cut: some 5 000 rows a
+/// step of the reference head).
+#[inline(always)]
+pub(super) fn node_pair(k0: f64, k1: f64) -> Option<(usize, usize)> {
+    (k0 <= k1).then_some((k0 as i64 as usize, k1 as i64 as usize))
+}
+
+impl Core {
+    /// `[lo, hi]` (of `x` about the centre, on the row `y` about it, `u`
+    /// the heading) clipped to the core: the union of its three convex
+    /// parts' stretches of the row, the band `|l| <= h_l` and the ellipses
+    /// at `l = +-h_l`, each an interval; `None` when none is left.
+    pub(super) fn clip(&self, y: f64, u: (f64, f64), lo: f64, hi: f64) -> Option<(f64, f64)> {
+        // s = x u.0 + y u.1, l = -x u.1 + y u.0
+        let (su, s0) = (u.0, y * u.1);
+        let (lu, l0) = (-u.1, y * u.0);
+        let (mut a, mut b) = (f64::INFINITY, f64::NEG_INFINITY);
+        let mut join = |p: f64, q: f64| {
+            if p <= q {
+                a = a.min(p);
+                b = b.max(q);
+            }
+        };
+        // the band: |l| <= h_l, |s| <= a
+        let mut band = (f64::NEG_INFINITY, f64::INFINITY);
+        for (k, c, lim) in [(lu, l0, self.h_l), (su, s0, self.a)] {
+            if k.abs() > 1e-12 {
+                let (p, q) = ((-lim - c) / k, (lim - c) / k);
+                band = (band.0.max(p.min(q)), band.1.min(p.max(q)));
+            } else if c.abs() > lim {
+                band = (1.0, 0.0);
+            }
+        }
+        join(band.0, band.1);
+        // the ellipses: ((l -+ h_l) / b)^2 + (s / a)^2 <= 1
+        for off in [self.h_l, -self.h_l] {
+            if let Some((p, q)) = ellipse_chord((su, s0), (lu, l0), off, self.a, self.b) {
+                join(p, q);
+            }
+        }
+        let (lo, hi) = (lo.max(a), hi.min(b));
+        if lo > hi {
+            return None;
+        }
+        let Some(hole) = &self.hole else {
+            return Some((lo, hi));
+        };
+        // less the hole's stretch of the row: the longer of what is left
+        // on either side of it
+        let Some((e0, e1)) = ellipse_chord((su, s0), (lu, l0), hole.l_c, hole.a_h, hole.b_h) else {
+            return Some((lo, hi));
+        };
+        let (below, above) = ((lo, hi.min(e0)), (lo.max(e1), hi));
+        let longer = if below.1 - below.0 >= above.1 - above.0 {
+            below
+        } else {
+            above
+        };
+        (longer.0 < longer.1).then_some(longer)
+    }
+}
+
+/// The stretch of a row inside the ellipse `((l - l_c) / b)^2 + (s / a)^2
+/// <= 1`, the row's point at `x` being `s = su x + s0`, `l = lu x + l0`;
+/// `None` when the row misses it. (Inlined by force: called out of line,
+/// the gauge scene's step took 1.2 % more instructions.)
+#[inline(always)]
+pub(super) fn ellipse_chord(
+    (su, s0): (f64, f64),
+    (lu, l0): (f64, f64),
+    l_c: f64,
+    a: f64,
+    b: f64,
+) -> Option<(f64, f64)> {
+    let (p, q) = (lu / b, (l0 - l_c) / b);
+    let (m, n) = (su / a, s0 / a);
+    let qa = p * p + m * m;
+    let qb = p * q + m * n;
+    let qc = q * q + n * n - 1.0;
+    let disc = qb * qb - qa * qc;
+    if !(qa > 0.0 && disc >= 0.0) {
+        return None;
+    }
+    let root = disc.sqrt();
+    Some(((-qb - root) / qa, (-qb + root) / qa))
+}

@@ -4,6 +4,7 @@
 #[path = "fmi_support.rs"]
 mod support;
 
+use kerf::fmi2 as f;
 use support::*;
 
 fn bits(v: &[f64]) -> Vec<u64> {
@@ -300,4 +301,41 @@ fn a_state_restores_without_its_initial_surface_file() {
     );
     fmu.free_state(s);
     other.free_state(s2);
+}
+
+/// fmusim 0.0.39 frees the states of its FMU-state files by passing the
+/// state itself to `fmi2FreeFMUstate`, not the address of its
+/// `fmi2FMUstate`. kerf frees that state (it is one of the instance's own)
+/// with a warning, so the host's run goes on; another instance's state
+/// passed so is refused and stays alive, as does everything else.
+#[test]
+fn a_state_passed_to_free_as_itself_is_freed_with_a_warning() {
+    let a = cs_cutter("fs-itself-a");
+    let b = cs_cutter("fs-itself-b");
+    let sa = a.get_state();
+    let sb = b.get_state();
+    assert_eq!(f::fmu_states_of(a.c), 1);
+    // another instance's state: not this instance's to free
+    let s = unsafe { f::fmi2FreeFMUstate(a.c, sb.cast()) };
+    assert_eq!(s, ERROR);
+    assert!(
+        a.last_error().contains("not a live FMU state"),
+        "{:?}",
+        a.errors()
+    );
+    assert_eq!(f::fmu_states_of(b.c), 1);
+    // its own: freed, OK, with a warning that says what the host did
+    let s = unsafe { f::fmi2FreeFMUstate(a.c, sa.cast()) };
+    assert_eq!(s, OK);
+    assert_eq!(f::fmu_states_of(a.c), 0);
+    let warned = a
+        .messages()
+        .into_iter()
+        .any(|m| m.level == log::Level::Warn && m.text.contains("not the address of one"));
+    assert!(warned, "{:?}", a.messages());
+    // the instance goes on, and b's state still restores b
+    assert_eq!(a.do_step(0.0, 1e-3), OK);
+    assert_eq!(b.set_state(sb), OK);
+    b.free_state(sb);
+    assert_eq!(f::fmu_states_of(b.c), 0);
 }

@@ -588,6 +588,22 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     const F: &str = "fmi2FreeFMUstate";
     with(c, F, |i| {
         i.check(F, mask::ANY)?;
+        // fmusim 0.0.39 (Reference-FMUs) frees the states of its FMU-state
+        // files by passing the state itself, not the address of its
+        // fmi2FMUstate (a host bug, docs/hosts.md). A pointer that is one of
+        // this instance's live states is such a call: a host's own variable
+        // never lies inside a state kerf allocated. It is freed as that
+        // state, with a warning; the host's variable cannot be set to NULL.
+        let itself: fmi2FMUstate = FMUstate.cast();
+        if states().get(&(itself as usize)) == Some(&(c as usize)) {
+            free_state(itself);
+            i.log_warning(&format!(
+                "{F}: FMUstate is an FMU state, not the address of one (FMI 2.0 \
+                 passes a pointer to the host's fmi2FMUstate); freed that state, \
+                 whose value the host still holds and must not use again"
+            ));
+            return Ok(Status::Ok);
+        }
         // SAFETY: `FMUstate` points to one fmi2FMUstate.
         let slot = unsafe { out_one(FMUstate, F, "FMUstate") }?;
         if slot.is_null() {

@@ -29,6 +29,8 @@ pub trait Component {
     fn check(&self, func: &str, mask: u32) -> Res<()>;
     fn check_kind(&self, func: &str, kind: Kind) -> Res<()>;
     fn log_error(&self, msg: &str);
+    /// Logs `msg` at status Warning (category `logStatusWarning`).
+    fn log_warning(&self, msg: &str);
     fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> Res<Status>;
     fn setup_experiment(&mut self, tol: Option<f64>, start: f64, stop: Option<f64>) -> Res<Status>;
     fn enter_initialization_mode(&mut self) -> Res<Status>;
@@ -80,6 +82,9 @@ where
     }
     fn check_kind(&self, func: &str, kind: Kind) -> Res<()> {
         Self::check_kind(self, func, kind)
+    }
+    fn log_warning(&self, msg: &str) {
+        self.log(Status::Warning, super::log::Category::Warning, msg);
     }
     fn log_error(&self, msg: &str) {
         Self::log_error(self, msg)

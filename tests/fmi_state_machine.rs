@@ -318,3 +318,43 @@ fn logging_on_at_instantiation_reports_events() {
         fmu.messages()
     );
 }
+
+/// fmusim-rs 0.8.0's CVode sets a one-element dummy state on a model
+/// without states at every root-function call (host bug H1,
+/// docs/hosts.md). kerf ignores that one value with one warning an
+/// instance and stays strict everywhere else: two values, or a dummy read
+/// of states or derivatives, are errors, and the outputs do not move.
+#[test]
+fn a_hosts_one_element_dummy_state_is_ignored_with_one_warning() {
+    let fmu = Fmu::new("sm-dummy-state", Kind::Me);
+    fmu.init();
+    fmu.event_iteration();
+    let before = fmu.get_reals(&real_outputs()).1;
+    let warnings = |f: &Fmu| {
+        f.messages()
+            .into_iter()
+            .filter(|m| m.level == log::Level::Warn && m.text.contains("dummy state"))
+            .count()
+    };
+    let mut x = [123.0; 2];
+    unsafe {
+        assert_eq!(f::fmi2SetContinuousStates(fmu.c, x.as_ptr(), 1), OK);
+        assert_eq!(warnings(&fmu), 1);
+        x[0] = -7.0;
+        assert_eq!(f::fmi2SetContinuousStates(fmu.c, x.as_ptr(), 1), OK);
+        assert_eq!(warnings(&fmu), 1, "said once an instance");
+        assert_eq!(f::fmi2SetContinuousStates(fmu.c, x.as_ptr(), 2), ERROR);
+        assert!(fmu.last_error().contains("nx = 2"));
+        assert_eq!(f::fmi2GetContinuousStates(fmu.c, x.as_mut_ptr(), 1), ERROR);
+        assert_eq!(f::fmi2GetDerivatives(fmu.c, x.as_mut_ptr(), 1), ERROR);
+    }
+    assert_eq!(fmu.get_reals(&real_outputs()).1, before);
+    // a Co-Simulation instance has no continuous-time functions at all
+    let cs = Fmu::new("sm-dummy-state-cs", Kind::Cs);
+    cs.init();
+    let x = [0.0];
+    assert_eq!(
+        unsafe { f::fmi2SetContinuousStates(cs.c, x.as_ptr(), 1) },
+        ERROR
+    );
+}

@@ -194,6 +194,8 @@ pub struct Fmi<M> {
     pub(crate) last_commit_time: f64,
     /// Model Exchange: the rock was committed in this event.
     pub(crate) event_committed: bool,
+    /// `fmi2SetContinuousStates` has warned of a host's dummy state.
+    dummy_state_warned: std::cell::Cell<bool>,
     pub(crate) model: M,
 }
 
@@ -215,6 +217,7 @@ impl<M: FmuModel> Fmi<M> {
             time: 0.0,
             last_commit_time: 0.0,
             event_committed: false,
+            dummy_state_warned: std::cell::Cell::new(false),
             model,
         }
     }
@@ -666,6 +669,24 @@ impl<M: FmuModel> Fmi<M> {
     pub fn no_states(&self, func: &str, mask: u32, n: usize, what: &str) -> Res<Status> {
         self.check_kind(func, Kind::ModelExchange)?;
         self.check(func, mask)?;
+        if n == 1 && func == "fmi2SetContinuousStates" {
+            // fmusim-rs 0.8.0's CVode gives a model without states a
+            // one-element dummy state vector and sets it at every call of
+            // its root function (host bug H1, docs/hosts.md). One value
+            // where the model has none carries nothing: it is ignored, with
+            // one warning an instance.
+            if !self.dummy_state_warned.replace(true) {
+                self.log(
+                    Status::Warning,
+                    Category::Warning,
+                    &format!(
+                        "{func}: nx = 1, but the model has no continuous states; the \
+                         value is ignored (a host's dummy state; said once)"
+                    ),
+                );
+            }
+            return Ok(Status::Ok);
+        }
         if n != 0 {
             return Err(format!("{func}: {what} = {n}, but the model has none (0)"));
         }

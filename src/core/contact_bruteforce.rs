@@ -188,6 +188,7 @@ pub fn contact_brute(
                 (u_max, law.regularisation(arc_depth)),
                 elastic_depth,
                 eta,
+                None,
             );
             depth[s] = depth[s].max(arc_depth * eff * share);
             loads[usize::from(*face)][s] += load.scaled(*share);

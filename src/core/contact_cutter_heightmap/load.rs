@@ -114,37 +114,10 @@ pub(super) fn rock_to_the_end(
 /// arc's depth `reg` (an arc shallower than `numerics.pReg` grows linearly
 /// from first touch, as the CSM law does). Returns the load and the fraction
 /// of the whole arc's force it keeps (which scales the arc's depth in the
-/// side blend).
-#[allow(clippy::too_many_arguments)]
-pub fn arc_contribution(
-    map: &HeightMap,
-    disc: &PosedDisc,
-    motion: &Motion,
-    e: &Element,
-    (t0, t1): (f64, f64),
-    (whole, drive): (Load, Load),
-    (u_max, reg): (f64, f64),
-    elastic_depth: f64,
-    eta: f64,
-) -> (Load, f64) {
-    arc_contribution_in(
-        map,
-        disc,
-        motion,
-        e,
-        (t0, t1),
-        (whole, drive),
-        (u_max, reg),
-        elastic_depth,
-        eta,
-        None,
-    )
-}
-
-/// [`arc_contribution`], given the arc's driving parts
+/// side blend). `parts`: the arc's driving parts
 /// (`e.driving_parts(t0, t1)`) when the caller has them.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn arc_contribution_in(
+pub fn arc_contribution(
     map: &HeightMap,
     disc: &PosedDisc,
     motion: &Motion,

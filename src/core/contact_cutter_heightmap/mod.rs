@@ -431,7 +431,7 @@ pub fn contact(
             // (the driving parts once, for the load and the still-there test)
             let (parts, np) = e.driving_parts_on(driving, t0, t1);
             let (whole, drive) = arc_load_in(&e, (t0, t1), sc01, far_hi, psi, &parts[..np]);
-            let (load, eff) = arc_contribution_in(
+            let (load, eff) = arc_contribution(
                 map,
                 disc,
                 &motion,

@@ -809,14 +809,9 @@ pub unsafe extern "C" fn fmi2SetContinuousStates(
     x: *const fmi2Real,
     nx: usize,
 ) -> fmi2Status {
-    let _ = x; // nx must be 0: nothing to read
+    let _ = x; // kerf has no states: nothing to read (a host's one dummy value is ignored)
     with(c, "fmi2SetContinuousStates", |i| {
-        i.no_states(
-            "fmi2SetContinuousStates",
-            mask::SET_CONTINUOUS_STATES,
-            nx,
-            "nx",
-        )
+        i.set_continuous_states(nx)
     })
 }
 const _: fmi2SetContinuousStatesTYPE = Some(fmi2SetContinuousStates);

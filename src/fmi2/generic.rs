@@ -245,6 +245,10 @@ impl<M: FmuModel> Fmi<M> {
         self.log(Status::Error, Category::Error, msg);
     }
 
+    pub fn log_warning(&self, msg: &str) {
+        self.log(Status::Warning, Category::Warning, msg);
+    }
+
     fn log_event(&self, msg: impl FnOnce() -> String) {
         if self.log_enabled(Category::Events) {
             self.logger
@@ -316,7 +320,7 @@ impl<M: FmuModel> Fmi<M> {
             .build()
             .map_err(|e| format!("fmi2ExitInitializationMode: {e}"))?;
         for w in &warnings {
-            self.log(Status::Warning, Category::Warning, w);
+            self.log_warning(w);
         }
         self.last_commit_time = self.time;
         self.model.begin();
@@ -669,26 +673,28 @@ impl<M: FmuModel> Fmi<M> {
     pub fn no_states(&self, func: &str, mask: u32, n: usize, what: &str) -> Res<Status> {
         self.check_kind(func, Kind::ModelExchange)?;
         self.check(func, mask)?;
-        if n == 1 && func == "fmi2SetContinuousStates" {
-            // fmusim-rs 0.8.0's CVode gives a model without states a
-            // one-element dummy state vector and sets it at every call of
-            // its root function (host bug H1, docs/hosts.md). One value
-            // where the model has none carries nothing: it is ignored, with
-            // one warning an instance.
-            if !self.dummy_state_warned.replace(true) {
-                self.log(
-                    Status::Warning,
-                    Category::Warning,
-                    &format!(
-                        "{func}: nx = 1, but the model has no continuous states; the \
-                         value is ignored (a host's dummy state; said once)"
-                    ),
-                );
-            }
-            return Ok(Status::Ok);
-        }
         if n != 0 {
             return Err(format!("{func}: {what} = {n}, but the model has none (0)"));
+        }
+        Ok(Status::Ok)
+    }
+
+    /// `fmi2SetContinuousStates`: as [`Fmi::no_states`], but one value is
+    /// ignored. fmusim-rs 0.8.0's CVode gives a model without states a
+    /// one-element dummy state vector and sets it at every call of its root
+    /// function (host bug H1, docs/hosts.md); one value where the model has
+    /// none carries nothing, so it passes, with one warning an instance.
+    pub fn set_continuous_states(&self, nx: usize) -> Res<Status> {
+        const F: &str = "fmi2SetContinuousStates";
+        if nx != 1 {
+            return self.no_states(F, mask::SET_CONTINUOUS_STATES, nx, "nx");
+        }
+        self.no_states(F, mask::SET_CONTINUOUS_STATES, 0, "nx")?;
+        if !self.dummy_state_warned.replace(true) {
+            self.log_warning(&format!(
+                "{F}: nx = 1, but the model has no continuous states; the value is \
+                 ignored (a host's dummy state; said once)"
+            ));
         }
         Ok(Status::Ok)
     }

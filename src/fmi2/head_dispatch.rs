@@ -62,6 +62,7 @@ pub trait Component {
     fn completed_integrator_step(&mut self) -> Res<(bool, bool)>;
     fn set_time(&mut self, t: f64) -> Res<Status>;
     fn no_states(&self, func: &str, mask: u32, n: usize, what: &str) -> Res<Status>;
+    fn set_continuous_states(&self, nx: usize) -> Res<Status>;
     fn do_step(&mut self, t: f64, h: f64) -> Res<Status>;
     fn last_successful_time(&self) -> f64;
 }
@@ -84,7 +85,7 @@ where
         Self::check_kind(self, func, kind)
     }
     fn log_warning(&self, msg: &str) {
-        self.log(Status::Warning, super::log::Category::Warning, msg);
+        Self::log_warning(self, msg)
     }
     fn log_error(&self, msg: &str) {
         Self::log_error(self, msg)
@@ -180,6 +181,9 @@ where
     }
     fn no_states(&self, func: &str, mask: u32, n: usize, what: &str) -> Res<Status> {
         Self::no_states(self, func, mask, n, what)
+    }
+    fn set_continuous_states(&self, nx: usize) -> Res<Status> {
+        Self::set_continuous_states(self, nx)
     }
     fn do_step(&mut self, t: f64, h: f64) -> Res<Status> {
         Self::do_step(self, t, h)

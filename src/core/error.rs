@@ -18,7 +18,7 @@ pub enum KerfError {
     BadInput {
         name: &'static str,
         value: f64,
-        allowed: &'static str,
+        allowed: std::borrow::Cow<'static, str>,
     },
     /// A surface file could not be read or written (file, line (0 = whole file), what).
     SurfaceFile {
@@ -121,7 +121,7 @@ mod tests {
         let e = KerfError::BadInput {
             name: "vx",
             value: 1e300,
-            allowed: "at most 1e4 m/s or rad/s",
+            allowed: "at most 1e4 m/s or rad/s".into(),
         };
         assert_eq!(
             e.to_string(),

@@ -196,7 +196,7 @@ pub(crate) fn check_step(h: f64) -> Result<()> {
         Err(KerfError::BadInput {
             name: "communicationStepSize",
             value: h,
-            allowed: "finite and >= 0 s",
+            allowed: "finite and >= 0 s".into(),
         })
     }
 }
@@ -209,7 +209,7 @@ pub(crate) fn check_interval(dt: f64) -> Result<()> {
         Err(KerfError::BadInput {
             name: "time since last event",
             value: dt,
-            allowed: "finite and >= 0 s",
+            allowed: "finite and >= 0 s".into(),
         })
     }
 }

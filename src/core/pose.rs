@@ -43,22 +43,26 @@ pub const MAX_POSITION: f64 = 1.0e6;
 /// Speeds above this \[m/s\] or spins above this \[rad/s\] are rejected.
 pub const MAX_SPEED: f64 = 1.0e4;
 
-/// `v` finite and within `bound` of zero; `allowed` says so in the error.
-fn check(name: &'static str, v: f64, bound: f64, allowed: &'static str) -> Result<()> {
+/// `v` finite and within `bound` of zero; the error says so ("at most
+/// 1e4 m/s", `what` the unit and what is measured).
+fn check(name: &'static str, v: f64, bound: f64, what: &'static str) -> Result<()> {
     if v.is_finite() && v.abs() <= bound {
         Ok(())
     } else {
         Err(KerfError::BadInput {
             name,
             value: v,
-            allowed,
+            allowed: format!("at most {bound:e} {what}").into(),
         })
     }
 }
 
-const POSITION_RANGE: &str = "at most 1e6 m from the origin";
-const ANGLE_RANGE: &str = "at most 1e3 rad";
-const SPEED_RANGE: &str = "at most 1e4 m/s or rad/s";
+const POSITION: &str = "m from the origin";
+const ANGLE: &str = "rad";
+const SPEED: &str = "m/s or rad/s";
+
+/// Angles beyond this \[rad\] are rejected.
+const MAX_ANGLE: f64 = 1.0e3;
 
 impl Pose {
     pub fn new(x: f64, y: f64, z: f64, yaw: f64, pitch: f64, roll: f64) -> Self {
@@ -111,12 +115,12 @@ impl Pose {
 
     /// Rejects non-finite or absurd values (angles beyond 1e3 rad included).
     pub fn validate(&self) -> Result<()> {
-        check("x", self.position.x, MAX_POSITION, POSITION_RANGE)?;
-        check("y", self.position.y, MAX_POSITION, POSITION_RANGE)?;
-        check("z", self.position.z, MAX_POSITION, POSITION_RANGE)?;
-        check("yaw", self.yaw, 1.0e3, ANGLE_RANGE)?;
-        check("pitch", self.pitch, 1.0e3, ANGLE_RANGE)?;
-        check("roll", self.roll, 1.0e3, ANGLE_RANGE)
+        check("x", self.position.x, MAX_POSITION, POSITION)?;
+        check("y", self.position.y, MAX_POSITION, POSITION)?;
+        check("z", self.position.z, MAX_POSITION, POSITION)?;
+        check("yaw", self.yaw, MAX_ANGLE, ANGLE)?;
+        check("pitch", self.pitch, MAX_ANGLE, ANGLE)?;
+        check("roll", self.roll, MAX_ANGLE, ANGLE)
     }
 }
 
@@ -146,12 +150,12 @@ impl Twist {
     }
 
     pub fn validate(&self) -> Result<()> {
-        check("vx", self.velocity.x, MAX_SPEED, SPEED_RANGE)?;
-        check("vy", self.velocity.y, MAX_SPEED, SPEED_RANGE)?;
-        check("vz", self.velocity.z, MAX_SPEED, SPEED_RANGE)?;
-        check("wx", self.omega.x, MAX_SPEED, SPEED_RANGE)?;
-        check("wy", self.omega.y, MAX_SPEED, SPEED_RANGE)?;
-        check("wz", self.omega.z, MAX_SPEED, SPEED_RANGE)
+        check("vx", self.velocity.x, MAX_SPEED, SPEED)?;
+        check("vy", self.velocity.y, MAX_SPEED, SPEED)?;
+        check("vz", self.velocity.z, MAX_SPEED, SPEED)?;
+        check("wx", self.omega.x, MAX_SPEED, SPEED)?;
+        check("wy", self.omega.y, MAX_SPEED, SPEED)?;
+        check("wz", self.omega.z, MAX_SPEED, SPEED)
     }
 }
 

@@ -38,7 +38,9 @@
 //! elastic_depth)`, `u` the deepest the surface is inside the rock on the
 //! arc), so lifting the cutter off its groove unloads it without a jump.
 //!
-//! **Where the code is.** [`contact`] (this file) runs the query in order:
+//! **Where the code is.** [`contact`] (this file) runs the query in order,
+//! a stage a method of its `Query`, with the stages' work in the files
+//! beside it:
 //! - `circles.rs`: the circles of the surface to walk (rim slices, side-face
 //!   rings, flank bands) and their parts below the rock's top;
 //! - `walk.rs`: one circle walked through the rock from its lowest point to
@@ -116,6 +118,19 @@ pub fn slice_y(h: f64, n: usize, k: usize) -> f64 {
 
 /// The contact of `disc` with `map` under `law` (kerf's law), for a disc
 /// moving with `twist` (rock frame).
+///
+/// The query runs in stages, each a method of `Query`, on the circles of
+/// the surface and their walks (`Surface`):
+/// 1. `Query::walk_surface`: every circle walked from its lowest point;
+/// 2. `Query::engage_strips`: each rim slice as the part of its strip
+///    that touches the rock, and the strips a tilted disc's free edge
+///    crosses integrated in thirds;
+/// 3. `Query::refinement` and `Query::finish_slices`: the rim slices'
+///    arc ends refined, and the slices whose arc depth breaks with their
+///    neighbours' integrated in thirds;
+/// 4. `Query::loads`: every arc's load, summed by part and side;
+/// 5. `assemble` (the pressure level and the contact) and
+///    `Query::slip` (where friction reads the slip).
 pub fn contact(
     map: &HeightMap,
     disc: &PosedDisc,
@@ -124,86 +139,246 @@ pub fn contact(
     elastic_depth: f64,
     twist: &Twist,
 ) -> Contact {
-    let g = map.grid();
     let none = Contact::default();
-    // highest rock anywhere under the disc
-    let Some(z_top) = map.highest_within(disc.centre.x, disc.centre.y, disc.radius) else {
+    let Some(q) = Query::new(map, disc, law, num, elastic_depth, twist) else {
         return none;
     };
-    if disc.footprint_below(z_top).is_none() {
-        return none;
-    }
-    let cell = g.dx.min(g.dy);
-    let look = g.dx.max(g.dy);
-    let n = num.tip_slices;
-    let h = disc.half_width;
-    let motion = Motion::new(disc, twist, look_ahead(look, num));
-
-    let axle_z = disc.rot[(2, 1)];
-    let w_face = face_weight(axle_z);
-    // each face's share as the wall it drives into yields
-    // (`Motion::face_yield`), over the reach of a cut as deep as the
-    // highest rock near the disc
-    let w_sides = if w_face > 0.0 {
-        let reach = Motion::face_reach(disc, z_top);
-        [1.0, -1.0].map(|side| w_face * motion.face_yield(side, reach, elastic_depth))
-    } else {
-        [0.0; 2]
-    };
+    // (the circles and their walks, some 100 kB, and the slices' finished
+    // arcs are filled in place, stage by stage: a `Surface` that owned its
+    // arrays was built and then copied, which doubled a step's cost)
     let mut circles = [Circle::default(); MAX_CIRCLES];
-    let mut nc = surface_circles(&mut circles, disc, n, z_top, cell, w_face > 0.0);
-
-    // a moving disc's side face that drives into the rock nowhere ahead of
-    // its lowest point carries no load (`Motion::face_drives_ahead`): its
-    // rings are not walked then, unless the rim touches nothing (the disc is
-    // in contact if a ring touches). Rolling straight, that is both faces,
-    // exactly as the law gives (the whole-arc part weighs 1 - moving = 0 and
-    // no ring has a driving part); turning, the face away from the turn's
-    // centre. Flank bands are cones, which a rolling disc does drive into:
-    // always walked.
-    let rings_idle =
-        |side: f64| motion.moving >= 1.0 && !motion.face_drives_ahead(side, disc.rho(h));
-    let idle = [rings_idle(-1.0), rings_idle(1.0)];
-    let ring_idle = |c: &Circle| c.is_ring() && idle[usize::from(c.face > 0.0)];
-    // per circle, both sides: march first, then refine the ends of the arcs
-    // on every side whose weight in the blend can matter
-    let mut walks = [[None::<Walk>; 2]; MAX_CIRCLES];
-    let step_len = num.arc_step_cells * cell;
-    let walk = (step_len, look, !num.search_every_sample);
-    // A moving disc loads only the driving parts of its arcs (the whole-arc
-    // part weighs 1 - moving = 0), so a side of a circle that drives
-    // nowhere within its reach carries nothing, nor does one that drives a
-    // sliver only (`DRIVE_SLIVER_CELLS`): `drives` marks the sides that
-    // carry load (all of them below the rest speed), and only those set the
-    // bounds that choose the refinement, the arc depths that split strips
-    // and the slip point. The other sides are not walked (unless
-    // `numerics.walk_every_side`):
-    // - on a rim slice, once the driving side has found an arc (so that
-    //   whether the slice touches, and the disc is in contact, stays as
-    //   walking both sides finds it): the trailing side of a rolling disc;
-    // - on a face circle (ring or flank band), once the rim touches: on a
-    //   gauge disc turning on its track, one side of each ring (its side
-    //   face turns into the wall ahead and away from it behind).
+    let mut walks = [[None; 2]; MAX_CIRCLES];
     let mut drives = [[true; 2]; MAX_CIRCLES];
-    let every = num.walk_every_side;
-    // (with each circle's `Element::driving` where it was found, which the
-    // loads read again)
-    let mut drivings = [None::<Driving>; MAX_CIRCLES];
-    // (the walks, some 400 bytes a circle, are written where they are
-    // kept: passed back in the tuple they were copied twice more)
-    let walk_circle_into = |c: &Circle, rim_touches: bool, out: &mut [Option<Walk>; 2]| {
-        let Some(w) = SliceWalk::below(disc, (c.y, c.radius), z_top, walk) else {
+    let mut drivings = [None; MAX_CIRCLES];
+    let mut s = Surface {
+        circles: &mut circles,
+        nc: 0,
+        n_main: 0,
+        walks: &mut walks,
+        drives: &mut drives,
+        drivings: &mut drivings,
+    };
+    q.walk_surface(&mut s);
+    q.engage_strips(&mut s);
+    let refine = q.refinement(&mut s);
+    let mut slice_arcs = [[None::<Finished>; 2]; 101];
+    q.finish_slices(&mut s, &refine, &mut slice_arcs);
+    let Some(sums) = q.loads(&s, &refine, &slice_arcs) else {
+        return none;
+    };
+    // arcs that all carry nothing (no side reaches any depth) are no
+    // contact either: the rim of a disc that has rolled past the end of its
+    // rock still dips into its own groove's walls, which the map blurs
+    // across a cell at the tip's edges, and reported touching rock with
+    // every force zero
+    let Some((mut c, weights)) = assemble(disc, law, q.n, sums.loads, sums.depth) else {
+        return none;
+    };
+    if let Some((kg, _)) = sums.gov {
+        (c.slip_point, c.slip_normal) = q.slip(&s, &slice_arcs, &sums, kg, weights);
+    }
+    c
+}
+
+/// What every stage of [`contact`] reads: the disc, the rock, the law and
+/// the motion, and what is derived from them once.
+struct Query<'a> {
+    map: &'a HeightMap,
+    disc: &'a PosedDisc,
+    law: &'a CsmLaw,
+    elastic_depth: f64,
+    /// The highest rock anywhere under the disc.
+    z_top: f64,
+    /// Tip slices, half the tip's width and the width of a slice's strip.
+    n: usize,
+    h: f64,
+    w_strip: f64,
+    /// The smaller side of a cell, and the larger (the look-ahead's cell).
+    cell: f64,
+    look: f64,
+    motion: Motion,
+    /// The axle's slope (world z of its unit vector).
+    axle_z: f64,
+    /// How much the side faces carry at this tilt (`face_weight`), and
+    /// each face's share as the wall it drives into yields
+    /// (`Motion::face_yield`), faces +y and -y.
+    w_face: f64,
+    w_sides: [f64; 2],
+    /// Faces -y and +y whose rings carry nothing (`Query::ring_idle`).
+    idle: [bool; 2],
+    /// Every walk's sample step, look-ahead and whether it passes over runs
+    /// the rock cannot reach.
+    walk: (f64, f64, bool),
+    /// `numerics.walk_every_side`.
+    every: bool,
+}
+
+/// The circles of the surface the query walks and what their walks found,
+/// filled in stage by stage.
+struct Surface<'s> {
+    circles: &'s mut [Circle; MAX_CIRCLES],
+    /// Circles in use: the first `n_main` from `surface_circles` (the rim
+    /// slices first), then the samples of split strips.
+    nc: usize,
+    n_main: usize,
+    /// Each circle's walks, both sides.
+    walks: &'s mut [[Option<Walk>; 2]; MAX_CIRCLES],
+    /// The sides of each circle that may carry load: a moving disc's side
+    /// that drives nowhere within its reach, or a sliver only
+    /// (`DRIVE_SLIVER_CELLS`), carries nothing; only the sides that carry
+    /// load set the bounds that choose the refinement, the arc depths that
+    /// split strips and the slip point.
+    drives: &'s mut [[bool; 2]; MAX_CIRCLES],
+    /// Each circle's `Element::driving` where it was found, which the loads
+    /// read again.
+    drivings: &'s mut [Option<Driving>; MAX_CIRCLES],
+}
+
+impl Surface<'_> {
+    /// Splits rim slice `strip.0`'s strip in thirds (`split_in_thirds`).
+    fn split(
+        &mut self,
+        strip: (usize, f64, f64),
+        s: f64,
+        walk_at: &dyn Fn(f64) -> Walked,
+        disc: &PosedDisc,
+    ) {
+        let walked = (
+            &mut self.walks[..],
+            &mut self.drives[..],
+            &mut self.drivings[..],
+        );
+        split_in_thirds(self.circles, walked, &mut self.nc, strip, s, walk_at, disc);
+    }
+
+    /// Whether circle `k` touches the rock on either side.
+    fn touches(&self, k: usize) -> bool {
+        self.walks[k].iter().any(Option::is_some)
+    }
+}
+
+/// Which arc ends are refined how finely: the sides whose blend weight can
+/// matter, and the arc depth from which a circle may turn out deepest (it
+/// then gets the fine tolerance).
+struct Refinement {
+    sides: [bool; 2],
+    deepest_lo: f64,
+}
+
+/// Every arc's load summed, with what the assembly and the slip point read.
+struct Sums {
+    /// `[rim | face][side]`.
+    loads: [[Load; 2]; 2],
+    /// The depth each side's loaded arcs reach.
+    depth: [f64; 2],
+    /// The deepest rim arc that carries load (its circle and depth): an arc
+    /// a moving disc leaves behind cuts nothing.
+    gov: Option<(usize, f64)>,
+    /// The arcs of the split strips' samples (circles from `n_main` on).
+    sub_arcs: [[Option<Arc>; 2]; MAX_SUB],
+}
+
+impl<'a> Query<'a> {
+    /// The query's set-up; `None` when no rock reaches the disc.
+    fn new(
+        map: &'a HeightMap,
+        disc: &'a PosedDisc,
+        law: &'a CsmLaw,
+        num: &Numerics,
+        elastic_depth: f64,
+        twist: &Twist,
+    ) -> Option<Self> {
+        let g = map.grid();
+        // highest rock anywhere under the disc
+        let z_top = map.highest_within(disc.centre.x, disc.centre.y, disc.radius)?;
+        disc.footprint_below(z_top)?;
+        let cell = g.dx.min(g.dy);
+        let look = g.dx.max(g.dy);
+        let n = num.tip_slices;
+        let h = disc.half_width;
+        let motion = Motion::new(disc, twist, look_ahead(look, num));
+        let axle_z = disc.rot[(2, 1)];
+        let w_face = face_weight(axle_z);
+        // each face's share as the wall it drives into yields
+        // (`Motion::face_yield`), over the reach of a cut as deep as the
+        // highest rock near the disc
+        let w_sides = if w_face > 0.0 {
+            let reach = Motion::face_reach(disc, z_top);
+            [1.0, -1.0].map(|side| w_face * motion.face_yield(side, reach, elastic_depth))
+        } else {
+            [0.0; 2]
+        };
+        // a moving disc's side face that drives into the rock nowhere ahead
+        // of its lowest point carries no load (`Motion::face_drives_ahead`):
+        // its rings are not walked then, unless the rim touches nothing (the
+        // disc is in contact if a ring touches). Rolling straight, that is
+        // both faces, exactly as the law gives (the whole-arc part weighs
+        // 1 - moving = 0 and no ring has a driving part); turning, the face
+        // away from the turn's centre. Flank bands are cones, which a
+        // rolling disc does drive into: always walked.
+        let rings_idle =
+            |side: f64| motion.moving >= 1.0 && !motion.face_drives_ahead(side, disc.rho(h));
+        Some(Self {
+            map,
+            disc,
+            law,
+            elastic_depth,
+            z_top,
+            n,
+            h,
+            w_strip: 2.0 * h / n as f64,
+            cell,
+            look,
+            motion,
+            axle_z,
+            w_face,
+            w_sides,
+            idle: [rings_idle(-1.0), rings_idle(1.0)],
+            walk: (num.arc_step_cells * cell, look, !num.search_every_sample),
+            every: num.walk_every_side,
+        })
+    }
+
+    /// A ring of a side face that carries nothing (`Query::new`).
+    fn ring_idle(&self, c: &Circle) -> bool {
+        c.is_ring() && self.idle[usize::from(c.face > 0.0)]
+    }
+
+    /// Walks circle `c` into `out` (both sides, or the sides that may carry
+    /// load); returns those sides and where the circle drives.
+    ///
+    /// A moving disc loads only the driving parts of its arcs (the
+    /// whole-arc part weighs 1 - moving = 0), so the sides that do not
+    /// carry load (`Surface::drives`) are not walked (unless
+    /// `numerics.walk_every_side`):
+    /// - on a rim slice, once the driving side has found an arc (so that
+    ///   whether the slice touches, and the disc is in contact, stays as
+    ///   walking both sides finds it): the trailing side of a rolling disc;
+    /// - on a face circle (ring or flank band), once the rim touches: on a
+    ///   gauge disc turning on its track, one side of each ring (its side
+    ///   face turns into the wall ahead and away from it behind).
+    ///
+    /// (The walks, some 400 bytes a circle, are written where they are
+    /// kept: passed back in the tuple they were copied twice more.)
+    fn walk_circle_into(
+        &self,
+        c: &Circle,
+        rim_touches: bool,
+        out: &mut [Option<Walk>; 2],
+    ) -> ([bool; 2], Option<Driving>) {
+        let (disc, map) = (self.disc, self.map);
+        let Some(w) = SliceWalk::below(disc, (c.y, c.radius), self.z_top, self.walk) else {
             *out = [None, None];
             return ([true; 2], None);
         };
-        if motion.moving < 1.0 {
+        if self.motion.moving < 1.0 {
             w.march_into(map, disc, Sides::Wanted([true; 2]), out);
             return ([true; 2], None);
         }
-        let e = c.element(disc, &motion);
+        let e = c.element(disc, &self.motion);
         let driving = e.driving();
-        let d = w.sides_driving(&e, driving, DRIVE_SLIVER_CELLS * look / c.radius);
-        let sides = if every || (c.face != 0.0 && !rim_touches) {
+        let d = w.sides_driving(&e, driving, DRIVE_SLIVER_CELLS * self.look / c.radius);
+        let sides = if self.every || (c.face != 0.0 && !rim_touches) {
             Sides::Wanted([true; 2])
         } else if c.face != 0.0 {
             Sides::Wanted(d)
@@ -214,159 +389,188 @@ pub fn contact(
         };
         w.march_into(map, disc, sides, out);
         (d, Some(driving))
-    };
-    let walk_circle = |c: &Circle, rim_touches: bool| -> Walked {
-        let mut pair = [None, None];
-        let (d, driving) = walk_circle_into(c, rim_touches, &mut pair);
-        (pair, d, driving)
-    };
-    let mut rim_touches = false;
-    for (ci, c) in circles[..nc].iter().enumerate() {
-        if ring_idle(c) && rim_touches {
-            continue;
-        }
-        (drives[ci], drivings[ci]) = walk_circle_into(c, rim_touches, &mut walks[ci]);
-        rim_touches |= c.face == 0.0 && walks[ci].iter().any(Option::is_some);
     }
-    // the rim slices as the part of their strip that touches the rock
-    let walk_at = |y: f64| {
+
+    /// The rim circle at axle coordinate `y`, walked.
+    fn walk_at(&self, y: f64) -> Walked {
         let c = Circle {
             y,
-            radius: disc.rho(y),
+            radius: self.disc.rho(y),
             ..Circle::default()
         };
-        walk_circle(&c, true)
-    };
-    // (a disc at rest keeps the midpoint rule: lifted off its pit, the
-    // circles that still touch alternate with the node rows, no single
-    // edge; the rule blends in with the travel speed)
-    let m = motion.moving;
-    let (engaged, split) = if m > 0.0 {
-        engaged_strips(
-            h,
-            n,
-            |k| walks[k].iter().any(Option::is_some),
-            |y| {
-                SliceWalk::below(disc, (y, disc.rho(y)), z_top, walk)
-                    .is_some_and(|w| w.touches(map, disc))
-            },
-            |y| {
-                let rho = disc.rho(y);
-                disc.arc_below(y, rho, z_top).is_none_or(|(theta0, _)| {
-                    let p = disc.to_world(&disc.rim_point_local(theta0, y));
-                    map.any_uncut(p.x, p.y)
-                })
-            },
-        )
-    } else {
-        ([None; 101], [false; 101])
-    };
-    let w_strip = 2.0 * h / n as f64;
-    for (k, e) in engaged.iter().enumerate().take(n) {
-        if let Some((y, width)) = *e {
+        let mut pair = [None, None];
+        let (d, driving) = self.walk_circle_into(&c, true, &mut pair);
+        (pair, d, driving)
+    }
+
+    /// Stage 1: the surface's circles (`surface_circles`), each walked
+    /// from its lowest point, but the idle rings once the rim touches.
+    fn walk_surface(&self, s: &mut Surface) {
+        let rings = self.w_face > 0.0;
+        s.nc = surface_circles(s.circles, self.disc, self.n, self.z_top, self.cell, rings);
+        s.n_main = s.nc;
+        let mut rim_touches = false;
+        for (ci, c) in s.circles[..s.nc].iter().enumerate() {
+            if self.ring_idle(c) && rim_touches {
+                continue;
+            }
+            (s.drives[ci], s.drivings[ci]) =
+                self.walk_circle_into(c, rim_touches, &mut s.walks[ci]);
+            rim_touches |= c.face == 0.0 && s.walks[ci].iter().any(Option::is_some);
+        }
+    }
+
+    /// Stage 2: the rim slices as the part of their strip that touches the
+    /// rock (`engaged_strips`), and a strip a free edge crosses on a tilted
+    /// disc integrated in thirds: its middle sample and one at the middle
+    /// of each outer third, blended in with the travel speed (like the edge
+    /// search) and with the tilt (`SPLIT_TILT`).
+    ///
+    /// (A disc at rest keeps the midpoint rule: lifted off its pit, the
+    /// circles that still touch alternate with the node rows, no single
+    /// edge; the rule blends in with the travel speed.)
+    fn engage_strips(&self, s: &mut Surface) {
+        let (disc, map, z_top, walk) = (self.disc, self.map, self.z_top, self.walk);
+        let (h, n, w_strip) = (self.h, self.n, self.w_strip);
+        let m = self.motion.moving;
+        let (engaged, split) = if m > 0.0 {
+            engaged_strips(
+                h,
+                n,
+                |k| s.touches(k),
+                |y| {
+                    SliceWalk::below(disc, (y, disc.rho(y)), z_top, walk)
+                        .is_some_and(|w| w.touches(map, disc))
+                },
+                |y| {
+                    let rho = disc.rho(y);
+                    disc.arc_below(y, rho, z_top).is_none_or(|(theta0, _)| {
+                        let p = disc.to_world(&disc.rim_point_local(theta0, y));
+                        map.any_uncut(p.x, p.y)
+                    })
+                },
+            )
+        } else {
+            ([None; 101], [false; 101])
+        };
+        for (k, e) in engaged.iter().enumerate().take(n) {
+            if let Some((y, width)) = *e {
+                let yk = slice_y(h, n, k);
+                let (y, width) = if s.touches(k) {
+                    (yk + m * (y - yk), w_strip + m * (width - w_strip))
+                } else {
+                    (y, m * width)
+                };
+                s.circles[k].y = y;
+                s.circles[k].radius = disc.rho(y);
+                s.circles[k].width = width;
+                (s.walks[k], s.drives[k], s.drivings[k]) = if width > 0.0 {
+                    self.walk_at(y)
+                } else {
+                    ([None, None], [true; 2], None)
+                };
+            }
+        }
+        let sm = m * smoothstep(self.axle_z.abs() / SPLIT_TILT);
+        // (the samples of split strips follow the other circles)
+        for (k, &sp) in split.iter().enumerate().take(n) {
+            if sm <= 0.0 || !sp || s.nc + 2 > s.n_main + MAX_SUB {
+                continue;
+            }
             let yk = slice_y(h, n, k);
-            let (y, width) = if walks[k].iter().any(Option::is_some) {
-                (yk + m * (y - yk), w_strip + m * (width - w_strip))
-            } else {
-                (y, m * width)
-            };
-            circles[k].y = y;
-            circles[k].radius = disc.rho(y);
-            circles[k].width = width;
-            (walks[k], drives[k], drivings[k]) = if width > 0.0 {
-                walk_at(y)
-            } else {
-                ([None, None], [true; 2], None)
-            };
+            s.split((k, yk, w_strip), sm, &|y| self.walk_at(y), disc);
         }
     }
-    // a strip a free edge crosses on a tilted disc is integrated in thirds:
-    // its middle sample and one at the middle of each outer third, blended
-    // in with the travel speed (like the edge search) and with the tilt
-    // (`SPLIT_TILT`)
-    let sm = m * smoothstep(axle_z.abs() / SPLIT_TILT);
-    // (the samples of split strips follow the other circles)
-    let n_main = nc;
-    for (k, &sp) in split.iter().enumerate().take(n) {
-        if sm <= 0.0 || !sp || nc + 2 > n_main + MAX_SUB {
-            continue;
-        }
-        let yk = slice_y(h, n, k);
-        split_in_thirds(
-            &mut circles,
-            (&mut walks, &mut drives, &mut drivings),
-            &mut nc,
-            (k, yk, w_strip),
-            sm,
-            &walk_at,
-            disc,
-        );
-    }
-    let mut lo = [0.0f64; 2];
-    let mut hi = [0.0f64; 2];
-    // (the rim's heights at each walk's ends are read once, for these
-    // bounds, `depth_to(b_in)` and `depth_bound`, and the unrefined ends)
-    for (pair, dr) in walks.iter_mut().zip(&drives).take(nc) {
-        for s in 0..2 {
-            if let Some(w) = &mut pair[s] {
-                let z = w.end_heights(disc);
-                w.ends = Some(z);
-                if dr[s] {
-                    lo[s] = lo[s].max((z.b_in - z.a).max(0.0));
-                    hi[s] = hi[s].max((z.b_far - z.a).max(0.0));
+
+    /// Which arc ends are refined how finely, from the rim's heights at
+    /// each walk's ends (read once here, for these bounds, `depth_to(b_in)`
+    /// and `depth_bound`, and the unrefined ends; kept in the walks).
+    fn refinement(&self, s: &mut Surface) -> Refinement {
+        let mut lo = [0.0f64; 2];
+        let mut hi = [0.0f64; 2];
+        for (pair, dr) in s.walks.iter_mut().zip(s.drives.iter()).take(s.nc) {
+            for side in 0..2 {
+                if let Some(w) = &mut pair[side] {
+                    let z = w.end_heights(self.disc);
+                    w.ends = Some(z);
+                    if dr[side] {
+                        lo[side] = lo[side].max((z.b_in - z.a).max(0.0));
+                        hi[side] = hi[side].max((z.b_far - z.a).max(0.0));
+                    }
                 }
             }
         }
+        let matters = |s: usize| {
+            let (me, other) = (hi[s].powi(4), lo[1 - s].powi(4));
+            me + other == 0.0 || me / (me + other) > NEGLIGIBLE_WEIGHT
+        };
+        Refinement {
+            sides: [matters(0), matters(1)],
+            deepest_lo: lo[0].max(lo[1]),
+        }
     }
-    let matters = |s: usize| {
-        let (me, other) = (hi[s].powi(4), lo[1 - s].powi(4));
-        me + other == 0.0 || me / (me + other) > NEGLIGIBLE_WEIGHT
-    };
-    let refine_side = [matters(0), matters(1)];
-    // circles that may turn out deepest get the fine tolerance
-    let deepest_lo = lo[0].max(lo[1]);
-    // (each arc with `sin_cos` of its ends, for its load)
-    // (written where it is kept: a pair returned by value was copied)
-    let finish_pair = |pair: &[Option<Walk>; 2], dr: [bool; 2], out: &mut [Option<Finished>; 2]| {
-        // (the samples of strips split below read their heights here)
+
+    /// One circle's walks finished into arcs, with `sin_cos` of their ends
+    /// for their loads. (Written where they are kept: a pair returned by
+    /// value was copied.)
+    fn finish_pair(
+        &self,
+        r: &Refinement,
+        pair: &[Option<Walk>; 2],
+        dr: [bool; 2],
+        out: &mut [Option<Finished>; 2],
+    ) {
+        let disc = self.disc;
+        // (the samples of strips split later read their heights here)
         let heights = |s: usize| pair[s].as_ref().map(|w| w.end_heights(disc));
         let z = [heights(0), heights(1)];
         // (`depth_bound`, from the heights, of the sides that may drive)
         let may_govern = (0..2)
             .filter(|&s| dr[s])
             .filter_map(|s| z[s])
-            .any(|z| (z.b_far - z.a).max(0.0) >= deepest_lo);
+            .any(|z| (z.b_far - z.a).max(0.0) >= r.deepest_lo);
         let tol = if may_govern { ANGLE_TOL } else { LEAN_TOL };
         for (s, o) in out.iter_mut().enumerate() {
             let z = z[s].unwrap_or_default();
             *o = pair[s]
                 .as_ref()
-                .map(|w| w.finish_from(map, disc, look, refine_side[s], tol, &z));
+                .map(|w| w.finish_from(self.map, disc, self.look, r.sides[s], tol, &z));
         }
-    };
-    // the rim slices' arcs first: a slice whose arc depth breaks with its
-    // neighbours' (an arc end on an older groove's blurred wall or floor,
-    // which moves steeply with the slice's place in its cell) is
-    // integrated in thirds as well
-    let mut slice_arcs = [[None::<Finished>; 2]; 101];
-    for (k, a) in slice_arcs.iter_mut().enumerate().take(n) {
-        finish_pair(&walks[k], drives[k], a);
     }
-    if m > 0.0 && n >= 3 {
+
+    /// Stage 3: the rim slices' arcs finished into `slice_arcs`; then a
+    /// slice whose arc depth breaks with its neighbours' (an arc end on an
+    /// older groove's blurred wall or floor, which moves steeply with the
+    /// slice's place in its cell) is integrated in thirds as well
+    /// (`UNEVEN_DEPTH`).
+    fn finish_slices(
+        &self,
+        s: &mut Surface,
+        r: &Refinement,
+        slice_arcs: &mut [[Option<Finished>; 2]; 101],
+    ) {
+        let (n, h, disc) = (self.n, self.h, self.disc);
+        for (k, a) in slice_arcs.iter_mut().enumerate().take(n) {
+            self.finish_pair(r, &s.walks[k], s.drives[k], a);
+        }
+        let m = self.motion.moving;
+        if m <= 0.0 || n < 3 {
+            return;
+        }
         // each slice's deepest loaded arc, found once (the strips split
         // below add circles, not slices)
         let mut depths = [0.0f64; 101];
         for (k, dk) in depths.iter_mut().enumerate().take(n) {
             *dk = (0..2)
-                .filter(|&s| drives[k][s])
-                .filter_map(|s| slice_arcs[k][s].map(|(a, _)| a.depth))
+                .filter(|&side| s.drives[k][side])
+                .filter_map(|side| slice_arcs[k][side].map(|(a, _)| a.depth))
                 .fold(0.0, f64::max);
         }
         let d = |k: usize| depths[k];
         let profile = |k: usize| disc.radius - disc.rho(slice_y(h, n, k));
         for k in 1..n - 1 {
             // (a slice carrying part of its strip at a wall splits that part)
-            if circles[k].sub || circles[k].width <= 0.0 {
+            if s.circles[k].sub || s.circles[k].width <= 0.0 {
                 continue;
             }
             let dev = (d(k) - 0.5 * (d(k - 1) + d(k + 1))).abs();
@@ -374,132 +578,141 @@ pub fn contact(
             let own = 0.5 * (profile(k - 1) + profile(k + 1)) - profile(k);
             let lo = UNEVEN_DEPTH.max(3.0 * own.abs());
             let su = m * smoothstep((dev - lo) / lo);
-            if su > 0.0 && nc + 2 <= n_main + MAX_SUB {
-                let strip = (k, circles[k].y, circles[k].width);
-                let walked = (&mut walks[..], &mut drives[..], &mut drivings[..]);
-                split_in_thirds(&mut circles, walked, &mut nc, strip, su, &walk_at, disc);
+            if su > 0.0 && s.nc + 2 <= s.n_main + MAX_SUB {
+                let strip = (k, s.circles[k].y, s.circles[k].width);
+                s.split(strip, su, &|y| self.walk_at(y), disc);
             }
         }
     }
-    let circles = &circles[..nc];
 
-    // the load of every arc
-    let psi = law.psi();
-    let eta = still_there_tolerance(elastic_depth, look, disc);
-    let mut loads = [[Load::default(); 2]; 2]; // [rim | face][side]
-    let mut depth = [0.0f64; 2];
-    let mut any = false;
-    // the deepest rim arc, for the slip point, and the lean of the tip
-    let mut gov: Option<(usize, f64)> = None;
-    let mut sub_arcs = [[None::<Arc>; 2]; MAX_SUB];
-    for (ci, c) in circles.iter().enumerate() {
-        if ring_idle(c) {
-            any |= walks[ci].iter().any(Option::is_some);
-            continue;
-        }
-        // (a slice's arcs read where they are kept, not copied)
-        let mut own = [None, None];
-        let finished = if ci < n {
-            &slice_arcs[ci]
-        } else {
-            finish_pair(&walks[ci], drives[ci], &mut own);
-            &own
+    /// Stage 4: the load of every arc, summed by part and side; `None` when
+    /// no circle touches the rock.
+    fn loads(
+        &self,
+        s: &Surface,
+        r: &Refinement,
+        slice_arcs: &[[Option<Finished>; 2]; 101],
+    ) -> Option<Sums> {
+        let (map, disc, motion) = (self.map, self.disc, &self.motion);
+        let (n, n_main) = (self.n, s.n_main);
+        let psi = self.law.psi();
+        let eta = still_there_tolerance(self.elastic_depth, self.look, disc);
+        let mut sums = Sums {
+            loads: [[Load::default(); 2]; 2],
+            depth: [0.0; 2],
+            gov: None,
+            sub_arcs: [[None; 2]; MAX_SUB],
         };
-        // (the circle's element and where it drives once, for both sides)
-        let mut element = None;
-        for s in 0..2 {
-            let Some((arc, sc)) = finished[s] else {
-                continue;
-            };
-            any = true;
-            if !drives[ci][s] {
-                // (drives a sliver at most: carries nothing)
+        let mut any = false;
+        for (ci, c) in s.circles[..s.nc].iter().enumerate() {
+            if self.ring_idle(c) {
+                any |= s.touches(ci);
                 continue;
             }
-            if c.face == 0.0 && ci >= n_main {
-                sub_arcs[ci - n_main][s] = Some(arc);
+            // (a slice's arcs read where they are kept, not copied)
+            let mut own = [None, None];
+            let finished = if ci < n {
+                &slice_arcs[ci]
+            } else {
+                self.finish_pair(r, &s.walks[ci], s.drives[ci], &mut own);
+                &own
+            };
+            // (the circle's element and where it drives once, for both sides)
+            let mut element = None;
+            for (side, f) in finished.iter().enumerate() {
+                let Some((arc, sc)) = *f else {
+                    continue;
+                };
+                any = true;
+                if !s.drives[ci][side] {
+                    // (drives a sliver at most: carries nothing)
+                    continue;
+                }
+                if c.face == 0.0 && ci >= n_main {
+                    sums.sub_arcs[ci - n_main][side] = Some(arc);
+                }
+                let (e, driving) = *element.get_or_insert_with(|| {
+                    let e = c.element(disc, motion);
+                    (e, s.drivings[ci].unwrap_or_else(|| e.driving()))
+                });
+                let (t0, t1, far_hi, sc01) = if arc.b >= arc.a {
+                    (arc.a, arc.b, true, (sc[0], sc[1]))
+                } else {
+                    (arc.b, arc.a, false, (sc[1], sc[0]))
+                };
+                // (the driving parts once, for the load and the still-there test)
+                let (parts, np) = e.driving_parts_on(driving, t0, t1);
+                let (whole, drive) = arc_load_in(&e, (t0, t1), sc01, far_hi, psi, &parts[..np]);
+                let (load, eff) = arc_contribution(
+                    map,
+                    disc,
+                    motion,
+                    &e,
+                    (t0, t1),
+                    (whole, drive),
+                    (arc.u_max, self.law.regularisation(arc.depth)),
+                    self.elastic_depth,
+                    eta,
+                    Some(&parts[..np]),
+                );
+                // a slice that touches over part of its strip sets the depth
+                // in proportion to that part, up to half its strip: a sliver of
+                // contact entering a strip does not move the penetration
+                let share = if c.sub {
+                    1.0
+                } else if c.face == 0.0 {
+                    (2.0 * c.width / self.w_strip).min(1.0)
+                } else {
+                    1.0
+                };
+                // a side face's rings carry its share (`face_weight`,
+                // `Motion::face_yield`)
+                let (load, eff) = if c.is_ring() {
+                    let w = self.w_sides[usize::from(c.face < 0.0)];
+                    (load.scaled(w), eff * w)
+                } else {
+                    (load, eff)
+                };
+                sums.depth[side] = sums.depth[side].max(arc.depth * eff * share);
+                // (the deepest rim arc that carries load)
+                if c.face == 0.0 && eff > 0.0 && sums.gov.is_none_or(|(_, d)| arc.depth > d) {
+                    sums.gov = Some((ci, arc.depth));
+                }
+                sums.loads[usize::from(c.face != 0.0)][side] += load;
             }
-            let (e, driving) = *element.get_or_insert_with(|| {
-                let e = c.element(disc, &motion);
-                (e, drivings[ci].unwrap_or_else(|| e.driving()))
-            });
-            let (t0, t1, far_hi, sc01) = if arc.b >= arc.a {
-                (arc.a, arc.b, true, (sc[0], sc[1]))
-            } else {
-                (arc.b, arc.a, false, (sc[1], sc[0]))
-            };
-            // (the driving parts once, for the load and the still-there test)
-            let (parts, np) = e.driving_parts_on(driving, t0, t1);
-            let (whole, drive) = arc_load_in(&e, (t0, t1), sc01, far_hi, psi, &parts[..np]);
-            let (load, eff) = arc_contribution(
-                map,
-                disc,
-                &motion,
-                &e,
-                (t0, t1),
-                (whole, drive),
-                (arc.u_max, law.regularisation(arc.depth)),
-                elastic_depth,
-                eta,
-                Some(&parts[..np]),
-            );
-            // a slice that touches over part of its strip sets the depth
-            // in proportion to that part, up to half its strip: a sliver of
-            // contact entering a strip does not move the penetration
-            let share = if c.sub {
-                1.0
-            } else if c.face == 0.0 {
-                (2.0 * c.width / w_strip).min(1.0)
-            } else {
-                1.0
-            };
-            // a side face's rings carry its share (`face_weight`,
-            // `Motion::face_yield`)
-            let (load, eff) = if c.is_ring() {
-                let w = w_sides[usize::from(c.face < 0.0)];
-                (load.scaled(w), eff * w)
-            } else {
-                (load, eff)
-            };
-            depth[s] = depth[s].max(arc.depth * eff * share);
-            // (the deepest rim arc that carries load: an arc a moving disc
-            // leaves behind cuts nothing)
-            if c.face == 0.0 && eff > 0.0 && gov.is_none_or(|(_, d)| arc.depth > d) {
-                gov = Some((ci, arc.depth));
-            }
-            let part = usize::from(c.face != 0.0);
-            let l = &mut loads[part][s];
-            *l += load;
         }
+        any.then_some(sums)
     }
-    if !any {
-        return none;
-    }
-    // arcs that all carry nothing (no side reaches any depth) are no
-    // contact either: the rim of a disc that has rolled past the end of its
-    // rock still dips into its own groove's walls, which the map blurs
-    // across a cell at the tip's edges, and reported touching rock with
-    // every force zero
-    let Some((mut c, (wp, wm))) = assemble(disc, law, n, loads, depth) else {
-        return none;
-    };
-    // friction reads the slip where the cutting rim arc is lowest
-    if let Some((kg, _)) = gov {
+
+    /// Stage 5: where friction reads the slip ([`slip_point`]), the rim arc
+    /// `kg` the deepest that cuts, and the sides weighed `weights`.
+    fn slip(
+        &self,
+        s: &Surface,
+        slice_arcs: &[[Option<Finished>; 2]; 101],
+        sums: &Sums,
+        kg: usize,
+        weights: (f64, f64),
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let (n, n_main) = (self.n, s.n_main);
         // (the arcs that may carry load)
         let rim_arcs = |ci: usize| {
             let arcs = if ci < n {
                 slice_arcs[ci].map(|f| f.map(|(a, _)| a))
             } else {
-                sub_arcs[ci - n_main]
+                sums.sub_arcs[ci - n_main]
             };
-            [0, 1].map(|s| arcs[s].filter(|_| drives[ci][s]))
+            [0, 1].map(|side| arcs[side].filter(|_| s.drives[ci][side]))
         };
-        let rim = (0..n)
-            .chain(n_main..nc)
-            .map(|k| (circles[k].y, circles[k].width / w_strip, rim_arcs(k)));
-        (c.slip_point, c.slip_normal) = slip_point(disc, rim_arcs(kg), rim, (wp, wm));
+        let rim = (0..n).chain(n_main..s.nc).map(|k| {
+            (
+                s.circles[k].y,
+                s.circles[k].width / self.w_strip,
+                rim_arcs(k),
+            )
+        });
+        slip_point(self.disc, rim_arcs(kg), rim, weights)
     }
-    c
 }
 
 /// Where friction reads the slip, and the rim's inward unit normal there
@@ -533,164 +746,4 @@ fn slip_point(
         disc.rot * disc.rim_point_local(theta_slip, y_f),
         -(disc.rot * disc.rim_normal_local(theta_slip, y_f)),
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{sin_cos_near, RimCircle};
-    use crate::core::heightmap::{Grid, HeightMap};
-    use crate::core::params::CutterParams;
-    use crate::core::{cutter::PosedDisc, Pose};
-    use nalgebra::Vector3;
-
-    /// `out_of_rock` passes over a run above the nodes under it, and not
-    /// over one with a node above a rim point, nor over one a node
-    /// reaches by less than the margin; off the map there is no rock, and
-    /// the run is passed over.
-    #[test]
-    fn out_of_rock_passes_over_runs_no_node_reaches() {
-        // (node rows at y = -0.5 and 0.5 mm: the rim at y = 0 runs mid-cell)
-        let grid = Grid::new(-0.3, 0.3, -0.0505, 0.0495, 601, 101);
-        let c = CutterParams::default();
-        // the lowest point 1 mm above a face at 0
-        let disc = PosedDisc::new(&c, &Pose::new(0.0, 0.0, c.radius + 1e-3, 0.0, 0.0, 0.0));
-        let rim = RimCircle::new(&disc, 0.0, c.radius);
-        let step = (1e-3 / c.radius).sin_cos();
-        let run = |map: &HeightMap| {
-            let (mut s, mut co) = (0.0, 1.0);
-            rim.out_of_rock(map, &mut s, &mut co, step, 16)
-        };
-        let mut map = HeightMap::flat(grid, 0.0);
-        assert!(run(&map));
-        // a node 5 mm ahead (the run reaches 16 mm) up into the rim
-        map.set_node(305, 50, 1.2e-3);
-        assert!(!run(&map));
-        // a node of a cell under the run, just under the run's lowest rim
-        // point (its first)
-        map.set_node(305, 50, 0.0);
-        let z = disc.centre.z - c.radius * (1e-3 / c.radius).cos();
-        map.set_node(305, 51, z - 1e-6);
-        assert!(run(&map));
-        map.set_node(305, 51, z - 1e-10);
-        assert!(!run(&map), "within the margin");
-        // off the map
-        let far = PosedDisc::new(&c, &Pose::new(5.0, 0.0, c.radius - 1e-3, 0.0, 0.0, 0.0));
-        let rim = RimCircle::new(&far, 0.0, c.radius);
-        let (mut s, mut co) = (0.0, 1.0);
-        assert!(rim.out_of_rock(&map, &mut s, &mut co, step, 16));
-    }
-
-    /// Brute force holds the run test: on tilted, turned discs, over runs
-    /// of 1 to 32 samples anywhere on the rim's lower half, with a node
-    /// raised to about the height of a rim point of the run, a run
-    /// `out_of_rock` passes over has no sample the rock is over (the start
-    /// search would have found none there).
-    #[test]
-    fn out_of_rock_passes_over_no_sample_inside_the_rock() {
-        let grid = Grid::new(-0.3, 0.3, -0.3, 0.3, 601, 601);
-        let c = CutterParams::default();
-        let mut next = crate::core::uniforms(0x2545_f491_4f6c_dd1d_u64);
-        let (mut passed, mut refused, mut bulges) = (0, 0, 0);
-        for _ in 0..40000 {
-            let (roll, yaw) = (1.2 * (2.0 * next() - 1.0), 3.1 * (2.0 * next() - 1.0));
-            let pose = Pose::new(0.0, 0.0, c.radius - 2e-3, roll, 0.0, yaw);
-            let disc = PosedDisc::new(&c, &pose);
-            let y = disc.half_width * (2.0 * next() - 1.0);
-            let rho = disc.rho(y);
-            let Some((theta0, _)) = disc.arc_below(y, rho, 0.5) else {
-                continue;
-            };
-            let rim = RimCircle::new(&disc, y, rho);
-            let dir = if next() < 0.5 { 1.0 } else { -1.0 };
-            let dt = dir * 0.5e-3 / rho;
-            let step = dt.sin_cos();
-            let n = 1 + (next() * 32.0) as usize;
-            // (half the runs straddle the angle where the rim's world x or
-            // y turns, if that lies on the walk's quarter turn: there the
-            // rim bulges beyond its ends)
-            let axis = usize::from(next() < 0.5);
-            let t_turn = rim.ex[axis].atan2(rim.ez[axis]);
-            let off = [t_turn, t_turn + std::f64::consts::PI]
-                .map(|t| super::wrap(t - theta0) * dir)
-                .into_iter()
-                .find(|&o| o > 0.0 && o < std::f64::consts::FRAC_PI_2);
-            let k0 = match off {
-                Some(o) if next() < 0.5 => ((o / dt.abs()) as usize).saturating_sub(n / 2).max(1),
-                _ => 1 + (next() * 60.0) as usize,
-            };
-            // the samples, as the search turns to them
-            let (mut s, mut co) = theta0.sin_cos();
-            for _ in 0..k0 - 1 {
-                super::advance_by(&mut s, &mut co, step.0, step.1);
-            }
-            let (s_run, c_run) = (s, co);
-            let mut pts = Vec::new();
-            for _ in 0..n {
-                super::advance_by(&mut s, &mut co, step.0, step.1);
-                pts.push(rim.point(s, co));
-            }
-            // a node near one sample, raised to about the rim there; or,
-            // where the rim between the run's ends bulges into cells the
-            // box of its ends misses, the nodes of such a cell outside the
-            // nodes of the ends' cells, far over the rim
-            let cell = |p: &Vector3<f64>| grid.cell(p.x, p.y).unwrap();
-            let (a, b) = (cell(&pts[0]), cell(&pts[n - 1]));
-            let cols = a.0.min(b.0)..=a.0.max(b.0) + 1;
-            let rows = a.1.min(b.1)..=a.1.max(b.1) + 1;
-            let nodes = |q: &Vector3<f64>| {
-                let (i, j, _, _) = cell(q);
-                [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
-                    .map(|(i, j)| (!cols.contains(&i) || !rows.contains(&j)).then_some((i, j)))
-            };
-            let outside = pts.iter().find(|q| nodes(q).iter().any(Option::is_some));
-            let mut map;
-            if let Some(q) = outside {
-                bulges += 1;
-                let low = pts.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
-                map = HeightMap::flat(grid, low - 1e-6);
-                for (i, j) in nodes(q).into_iter().flatten() {
-                    map.set_node(i, j, q.z + 1.0);
-                }
-            } else {
-                let q = pts[(next() * n as f64) as usize];
-                let (i, j, _, _) = cell(&q);
-                let (i, j) = (i + usize::from(next() < 0.5), j + usize::from(next() < 0.5));
-                map = HeightMap::flat(grid, q.z - 0.05);
-                map.set_node(i, j, q.z + 2e-4 * (2.0 * next() - 1.0));
-            }
-            let (mut s1, mut c1) = (s_run, c_run);
-            if rim.out_of_rock(&map, &mut s1, &mut c1, step, n) {
-                passed += 1;
-                for p in &pts {
-                    assert!(
-                        map.height(p.x, p.y) - p.z <= 0.0,
-                        "roll {roll} yaw {yaw} y {y}"
-                    );
-                }
-            } else {
-                refused += 1;
-            }
-            // (it turns the angle as the search does)
-            assert_eq!((s1, c1), (s, co));
-        }
-        assert!(
-            passed > 5000 && refused > 5000 && bulges > 100,
-            "{passed} passed, {refused} refused, {bulges} bulges"
-        );
-    }
-
-    #[test]
-    fn sin_cos_near_equals_sin_cos_to_rounding() {
-        let mut worst: f64 = 0.0;
-        for i in 0..2000 {
-            let t0 = -7.0 + 0.0071 * i as f64;
-            for k in -20..=20 {
-                let t = t0 + 0.06 * k as f64 / 20.0;
-                let (s, c) = sin_cos_near(t, t0, t0.sin_cos());
-                let (s1, c1) = t.sin_cos();
-                worst = worst.max((s - s1).abs()).max((c - c1).abs());
-            }
-        }
-        assert!(worst < 4e-16, "worst {worst:e}");
-    }
 }

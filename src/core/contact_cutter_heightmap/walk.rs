@@ -791,3 +791,163 @@ pub(super) fn advance_by(s: &mut f64, c: &mut f64, sd: f64, cd: f64) {
     *c = *c * cd - *s * sd;
     *s = s1;
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{sin_cos_near, RimCircle};
+    use crate::core::heightmap::{Grid, HeightMap};
+    use crate::core::params::CutterParams;
+    use crate::core::{cutter::PosedDisc, Pose};
+    use nalgebra::Vector3;
+
+    /// `out_of_rock` passes over a run above the nodes under it, and not
+    /// over one with a node above a rim point, nor over one a node
+    /// reaches by less than the margin; off the map there is no rock, and
+    /// the run is passed over.
+    #[test]
+    fn out_of_rock_passes_over_runs_no_node_reaches() {
+        // (node rows at y = -0.5 and 0.5 mm: the rim at y = 0 runs mid-cell)
+        let grid = Grid::new(-0.3, 0.3, -0.0505, 0.0495, 601, 101);
+        let c = CutterParams::default();
+        // the lowest point 1 mm above a face at 0
+        let disc = PosedDisc::new(&c, &Pose::new(0.0, 0.0, c.radius + 1e-3, 0.0, 0.0, 0.0));
+        let rim = RimCircle::new(&disc, 0.0, c.radius);
+        let step = (1e-3 / c.radius).sin_cos();
+        let run = |map: &HeightMap| {
+            let (mut s, mut co) = (0.0, 1.0);
+            rim.out_of_rock(map, &mut s, &mut co, step, 16)
+        };
+        let mut map = HeightMap::flat(grid, 0.0);
+        assert!(run(&map));
+        // a node 5 mm ahead (the run reaches 16 mm) up into the rim
+        map.set_node(305, 50, 1.2e-3);
+        assert!(!run(&map));
+        // a node of a cell under the run, just under the run's lowest rim
+        // point (its first)
+        map.set_node(305, 50, 0.0);
+        let z = disc.centre.z - c.radius * (1e-3 / c.radius).cos();
+        map.set_node(305, 51, z - 1e-6);
+        assert!(run(&map));
+        map.set_node(305, 51, z - 1e-10);
+        assert!(!run(&map), "within the margin");
+        // off the map
+        let far = PosedDisc::new(&c, &Pose::new(5.0, 0.0, c.radius - 1e-3, 0.0, 0.0, 0.0));
+        let rim = RimCircle::new(&far, 0.0, c.radius);
+        let (mut s, mut co) = (0.0, 1.0);
+        assert!(rim.out_of_rock(&map, &mut s, &mut co, step, 16));
+    }
+
+    /// Brute force holds the run test: on tilted, turned discs, over runs
+    /// of 1 to 32 samples anywhere on the rim's lower half, with a node
+    /// raised to about the height of a rim point of the run, a run
+    /// `out_of_rock` passes over has no sample the rock is over (the start
+    /// search would have found none there).
+    #[test]
+    fn out_of_rock_passes_over_no_sample_inside_the_rock() {
+        let grid = Grid::new(-0.3, 0.3, -0.3, 0.3, 601, 601);
+        let c = CutterParams::default();
+        let mut next = crate::core::uniforms(0x2545_f491_4f6c_dd1d_u64);
+        let (mut passed, mut refused, mut bulges) = (0, 0, 0);
+        for _ in 0..40000 {
+            let (roll, yaw) = (1.2 * (2.0 * next() - 1.0), 3.1 * (2.0 * next() - 1.0));
+            let pose = Pose::new(0.0, 0.0, c.radius - 2e-3, roll, 0.0, yaw);
+            let disc = PosedDisc::new(&c, &pose);
+            let y = disc.half_width * (2.0 * next() - 1.0);
+            let rho = disc.rho(y);
+            let Some((theta0, _)) = disc.arc_below(y, rho, 0.5) else {
+                continue;
+            };
+            let rim = RimCircle::new(&disc, y, rho);
+            let dir = if next() < 0.5 { 1.0 } else { -1.0 };
+            let dt = dir * 0.5e-3 / rho;
+            let step = dt.sin_cos();
+            let n = 1 + (next() * 32.0) as usize;
+            // (half the runs straddle the angle where the rim's world x or
+            // y turns, if that lies on the walk's quarter turn: there the
+            // rim bulges beyond its ends)
+            let axis = usize::from(next() < 0.5);
+            let t_turn = rim.ex[axis].atan2(rim.ez[axis]);
+            let off = [t_turn, t_turn + std::f64::consts::PI]
+                .map(|t| super::wrap(t - theta0) * dir)
+                .into_iter()
+                .find(|&o| o > 0.0 && o < std::f64::consts::FRAC_PI_2);
+            let k0 = match off {
+                Some(o) if next() < 0.5 => ((o / dt.abs()) as usize).saturating_sub(n / 2).max(1),
+                _ => 1 + (next() * 60.0) as usize,
+            };
+            // the samples, as the search turns to them
+            let (mut s, mut co) = theta0.sin_cos();
+            for _ in 0..k0 - 1 {
+                super::advance_by(&mut s, &mut co, step.0, step.1);
+            }
+            let (s_run, c_run) = (s, co);
+            let mut pts = Vec::new();
+            for _ in 0..n {
+                super::advance_by(&mut s, &mut co, step.0, step.1);
+                pts.push(rim.point(s, co));
+            }
+            // a node near one sample, raised to about the rim there; or,
+            // where the rim between the run's ends bulges into cells the
+            // box of its ends misses, the nodes of such a cell outside the
+            // nodes of the ends' cells, far over the rim
+            let cell = |p: &Vector3<f64>| grid.cell(p.x, p.y).unwrap();
+            let (a, b) = (cell(&pts[0]), cell(&pts[n - 1]));
+            let cols = a.0.min(b.0)..=a.0.max(b.0) + 1;
+            let rows = a.1.min(b.1)..=a.1.max(b.1) + 1;
+            let nodes = |q: &Vector3<f64>| {
+                let (i, j, _, _) = cell(q);
+                [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
+                    .map(|(i, j)| (!cols.contains(&i) || !rows.contains(&j)).then_some((i, j)))
+            };
+            let outside = pts.iter().find(|q| nodes(q).iter().any(Option::is_some));
+            let mut map;
+            if let Some(q) = outside {
+                bulges += 1;
+                let low = pts.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+                map = HeightMap::flat(grid, low - 1e-6);
+                for (i, j) in nodes(q).into_iter().flatten() {
+                    map.set_node(i, j, q.z + 1.0);
+                }
+            } else {
+                let q = pts[(next() * n as f64) as usize];
+                let (i, j, _, _) = cell(&q);
+                let (i, j) = (i + usize::from(next() < 0.5), j + usize::from(next() < 0.5));
+                map = HeightMap::flat(grid, q.z - 0.05);
+                map.set_node(i, j, q.z + 2e-4 * (2.0 * next() - 1.0));
+            }
+            let (mut s1, mut c1) = (s_run, c_run);
+            if rim.out_of_rock(&map, &mut s1, &mut c1, step, n) {
+                passed += 1;
+                for p in &pts {
+                    assert!(
+                        map.height(p.x, p.y) - p.z <= 0.0,
+                        "roll {roll} yaw {yaw} y {y}"
+                    );
+                }
+            } else {
+                refused += 1;
+            }
+            // (it turns the angle as the search does)
+            assert_eq!((s1, c1), (s, co));
+        }
+        assert!(
+            passed > 5000 && refused > 5000 && bulges > 100,
+            "{passed} passed, {refused} refused, {bulges} bulges"
+        );
+    }
+
+    #[test]
+    fn sin_cos_near_equals_sin_cos_to_rounding() {
+        let mut worst: f64 = 0.0;
+        for i in 0..2000 {
+            let t0 = -7.0 + 0.0071 * i as f64;
+            for k in -20..=20 {
+                let t = t0 + 0.06 * k as f64 / 20.0;
+                let (s, c) = sin_cos_near(t, t0, t0.sin_cos());
+                let (s1, c1) = t.sin_cos();
+                worst = worst.max((s - s1).abs()).max((c - c1).abs());
+            }
+        }
+        assert!(worst < 4e-16, "worst {worst:e}");
+    }
+}

@@ -302,128 +302,272 @@ pub fn rock_starts(layout: &Layout) -> Vec<(&'static str, String)> {
     ]
 }
 
-/// Every variable of the head FMU of `layout` with `drive`, in
-/// modelDescription order.
-pub fn variables(layout: &Layout, drive: Drive) -> Vec<HeadVar> {
-    let specs: Vec<DiscSpec> = layout.cutters.iter().map(DiscSpec::from_layout).collect();
-    let mut v = Vec::new();
-    let real = |name: String,
-                vr,
-                causality,
-                variability,
-                start: Option<String>,
-                unit,
-                display_unit,
-                min,
-                max,
-                description: String,
-                slot| HeadVar {
-        name,
-        vr,
-        ty: Ty::Real,
-        causality,
-        variability,
-        start,
-        unit: Some(unit),
-        display_unit,
-        min,
-        max,
-        description: Some(description),
-        slot,
-    };
-    if drive == Drive::Head {
-        for (k, (name, unit, du, what)) in INPUTS.iter().enumerate() {
-            v.push(real(
-                name.to_string(),
-                k as u32 + 1,
-                Causality::Input,
-                Variability::Continuous,
-                Some("0".into()),
-                unit,
-                *du,
-                None,
-                None,
-                format!("Head frame {what} (boring: z decreasing, wz > 0)"),
-                Slot::HeadInput(k),
-            ));
+impl HeadVar {
+    /// A continuous Real variable with `unit` (and its display unit) and a
+    /// description, without start or range ([`HeadVar::start`],
+    /// [`HeadVar::range`], [`HeadVar::variability`] set those).
+    fn real(
+        name: impl Into<String>,
+        vr: u32,
+        slot: Slot,
+        causality: Causality,
+        (unit, display_unit): (&'static str, Option<&'static str>),
+        description: impl Into<String>,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            vr,
+            ty: Ty::Real,
+            causality,
+            variability: Variability::Continuous,
+            start: None,
+            unit: Some(unit),
+            display_unit,
+            min: None,
+            max: None,
+            description: Some(description.into()),
+            slot,
         }
     }
-    for (k, (name, vr, unit, du, what)) in TOTALS.iter().enumerate() {
-        let discrete = k >= 8;
-        v.push(real(
-            name.to_string(),
-            *vr,
-            Causality::Output,
-            if discrete {
-                Variability::Discrete
-            } else {
-                Variability::Continuous
-            },
-            None,
-            unit,
-            *du,
-            None,
-            None,
-            what.to_string(),
-            Slot::Total(k),
-        ));
+
+    /// A variable without unit, range or description (the head's own
+    /// Integer and Boolean outputs add a description; kerf's shared
+    /// parameters take theirs from kerf's modelDescription.xml).
+    fn plain(
+        name: impl Into<String>,
+        vr: u32,
+        ty: Ty,
+        (causality, variability): (Causality, Variability),
+        slot: Slot,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            vr,
+            ty,
+            causality,
+            variability,
+            start: None,
+            unit: None,
+            display_unit: None,
+            min: None,
+            max: None,
+            description: None,
+            slot,
+        }
     }
-    v.push(HeadVar {
-        name: "chipCount".into(),
-        vr: md::vr::CHIP_COUNT,
-        ty: Ty::Integer,
-        causality: Causality::Output,
-        variability: Variability::Discrete,
-        start: None,
-        unit: None,
-        display_unit: None,
-        min: None,
-        max: None,
-        description: Some("chips broken out so far by all discs (committed only)".into()),
-        slot: Slot::ChipCount,
-    });
-    for (k, (vr, (name, unit, du, lo, hi, what))) in HEAD_PARAMS.iter().enumerate() {
-        v.push(real(
-            name.to_string(),
+
+    fn variability(self, variability: Variability) -> Self {
+        Self {
+            variability,
+            ..self
+        }
+    }
+
+    fn start(self, start: impl Into<String>) -> Self {
+        Self {
+            start: Some(start.into()),
+            ..self
+        }
+    }
+
+    fn range(self, lo: f64, hi: f64) -> Self {
+        Self {
+            min: Some(lo),
+            max: Some(hi),
+            ..self
+        }
+    }
+
+    fn describe(self, description: impl Into<String>) -> Self {
+        Self {
+            description: Some(description.into()),
+            ..self
+        }
+    }
+}
+
+/// Every variable of the head FMU of `layout` with `drive`, in
+/// modelDescription order: the head's inputs (head drive), the totals and
+/// `chipCount`, the head parameters, kerf's shared parameters, then each
+/// disc's parameters, inputs (disc drive) and outputs.
+pub fn variables(layout: &Layout, drive: Drive) -> Vec<HeadVar> {
+    let mut v = Vec::new();
+    if drive == Drive::Head {
+        v.extend(
+            INPUTS
+                .iter()
+                .enumerate()
+                .map(|(k, (name, unit, du, what))| {
+                    HeadVar::real(
+                        *name,
+                        k as u32 + 1,
+                        Slot::HeadInput(k),
+                        Causality::Input,
+                        (unit, *du),
+                        format!("Head frame {what} (boring: z decreasing, wz > 0)"),
+                    )
+                    .start("0")
+                }),
+        );
+    }
+    v.extend(
+        TOTALS
+            .iter()
+            .enumerate()
+            .map(|(k, (name, vr, unit, du, what))| {
+                let var = HeadVar::real(
+                    *name,
+                    *vr,
+                    Slot::Total(k),
+                    Causality::Output,
+                    (unit, *du),
+                    *what,
+                );
+                // (the excavation totals past the forces and moments change at
+                // commits only)
+                if k >= 8 {
+                    var.variability(Variability::Discrete)
+                } else {
+                    var
+                }
+            }),
+    );
+    v.push(
+        HeadVar::plain(
+            "chipCount",
+            md::vr::CHIP_COUNT,
+            Ty::Integer,
+            (Causality::Output, Variability::Discrete),
+            Slot::ChipCount,
+        )
+        .describe("chips broken out so far by all discs (committed only)"),
+    );
+    v.extend(HEAD_PARAMS.iter().enumerate().map(|(k, (vr, row))| {
+        parameter(
+            row,
+            row.0.to_string(),
             *vr,
-            Causality::Parameter,
-            Variability::Fixed,
-            Some("0".into()),
-            unit,
-            *du,
-            Some(*lo),
-            Some(*hi),
-            what.to_string(),
             Slot::HeadParam(k),
-        ));
+            row.5.to_string(),
+        )
+        .start("0")
+    }));
+    v.extend(shared_parameters(layout));
+    let specs: Vec<DiscSpec> = layout.cutters.iter().map(DiscSpec::from_layout).collect();
+    let rest = place_all(
+        &specs,
+        &Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        &Twist::default(),
+    );
+    for (i, (c, s)) in layout.cutters.iter().zip(&specs).enumerate() {
+        let n = i + 1;
+        let values = [
+            s.mount.track,
+            s.mount.angle,
+            s.mount.tilt,
+            s.mount.setback,
+            c.spacing,
+            c.disc.radius,
+            c.disc.tip_width,
+            c.disc.tip_radius,
+        ];
+        v.extend(DISC_PARAMS.iter().enumerate().map(|(k, row)| {
+            let name = format!("cutter[{n}].{}", row.0);
+            let what = format!("Disc {n}: {}", row.5);
+            parameter(
+                row,
+                name,
+                disc_vr(i, PARAM_BASE + k),
+                Slot::DiscParam(i, k),
+                what,
+            )
+            .start(fmt(values[k]))
+        }));
+        if drive == Drive::Discs {
+            let (p, _) = rest[i];
+            let start = [
+                p.position.x,
+                p.position.y,
+                p.position.z,
+                p.yaw,
+                p.pitch,
+                p.roll,
+            ];
+            v.extend(INPUTS.iter().enumerate().map(|(k, (name, unit, du, what))| {
+                let what = match k {
+                    0..=2 => format!("disc centre {what}"),
+                    3..=5 => format!("cutter frame {what}"),
+                    6..=8 => format!("disc centre {what}"),
+                    _ => format!("disc {what} (spin about the axle included)"),
+                };
+                HeadVar::real(
+                    format!("cutter[{n}].{name}"),
+                    disc_vr(i, INPUT_BASE + k),
+                    Slot::DiscInput(i, k),
+                    Causality::Input,
+                    (unit, *du),
+                    format!(
+                        "Disc {n}: {what} (kerf.fmu's meaning; start: its mount with the head at rest)"
+                    ),
+                )
+                .start(fmt(if k < 6 { start[k] } else { 0.0 }))
+            }));
+        }
+        v.extend(
+            DISC_OUTPUTS
+                .iter()
+                .enumerate()
+                .map(|(k, (name, unit, du, what))| {
+                    HeadVar::real(
+                        format!("cutter[{n}].{name}"),
+                        disc_vr(i, OUTPUT_BASE + k),
+                        Slot::DiscOutput(i, k),
+                        Causality::Output,
+                        (unit, *du),
+                        format!("Disc {n}: {what}"),
+                    )
+                }),
+        );
+        v.push(
+            HeadVar::plain(
+                format!("cutter[{n}].inContact"),
+                disc_vr(i, IN_CONTACT),
+                Ty::Boolean,
+                (Causality::Output, Variability::Discrete),
+                Slot::DiscInContact(i),
+            )
+            .describe(format!(
+                "Disc {n}: some rim point below the rock surface bears load"
+            )),
+        );
     }
-    // the shared parameters, in kerf's order
+    v
+}
+
+/// A fixed Real parameter of `row` (name, unit, display unit, min, max,
+/// meaning) as `name`, described `what`.
+fn parameter(row: &ParamRow, name: String, vr: u32, slot: Slot, what: String) -> HeadVar {
+    let (_, unit, du, lo, hi, _) = *row;
+    HeadVar::real(name, vr, slot, Causality::Parameter, (unit, du), what)
+        .variability(Variability::Fixed)
+        .range(lo, hi)
+}
+
+/// kerf.fmu's parameters that every disc of a head shares, in kerf's order
+/// (not the per-disc ones, `PER_DISC`), with kerf's value references; the
+/// rock's extent starts from the layout's default face.
+fn shared_parameters(layout: &Layout) -> Vec<HeadVar> {
     let rock = rock_starts(layout);
     let mut shared: Vec<(usize, HeadVar)> = Vec::new();
     let mut add = |index: usize, name: &str, vr: u32, ty: Ty, c: Causality| {
         if c != Causality::Parameter || PER_DISC.contains(&name) {
             return;
         }
-        shared.push((
-            index,
-            HeadVar {
-                name: name.to_string(),
-                vr,
-                ty,
-                causality: c,
-                variability: Variability::Fixed,
-                start: rock
-                    .iter()
-                    .find(|(n, _)| *n == name)
-                    .map(|(_, s)| s.clone()),
-                unit: None,
-                display_unit: None,
-                min: None,
-                max: None,
-                description: None,
-                slot: Slot::Kerf,
-            },
-        ));
+        let mut var = HeadVar::plain(name, vr, ty, (c, Variability::Fixed), Slot::Kerf);
+        if let Some((_, s)) = rock.iter().find(|(n, _)| *n == name) {
+            var = var.start(s.clone());
+        }
+        shared.push((index, var));
     };
     for x in md::REALS {
         add(x.index, x.name, x.vr, Ty::Real, x.causality);
@@ -443,105 +587,7 @@ pub fn variables(layout: &Layout, drive: Drive) -> Vec<HeadVar> {
         add(x.index, x.name, x.vr, Ty::String, x.causality);
     }
     shared.sort_by_key(|(i, _)| *i);
-    v.extend(shared.into_iter().map(|(_, x)| x));
-    // per disc
-    let rest = place_all(
-        &specs,
-        &Pose::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-        &Twist::default(),
-    );
-    for (i, (c, s)) in layout.cutters.iter().zip(&specs).enumerate() {
-        let n = i + 1;
-        let values = [
-            s.mount.track,
-            s.mount.angle,
-            s.mount.tilt,
-            s.mount.setback,
-            c.spacing,
-            c.disc.radius,
-            c.disc.tip_width,
-            c.disc.tip_radius,
-        ];
-        for (k, (name, unit, du, lo, hi, what)) in DISC_PARAMS.iter().enumerate() {
-            v.push(real(
-                format!("cutter[{n}].{name}"),
-                disc_vr(i, PARAM_BASE + k),
-                Causality::Parameter,
-                Variability::Fixed,
-                Some(fmt(values[k])),
-                unit,
-                *du,
-                Some(*lo),
-                Some(*hi),
-                format!("Disc {n}: {what}"),
-                Slot::DiscParam(i, k),
-            ));
-        }
-        if drive == Drive::Discs {
-            let (p, _) = rest[i];
-            let start = [
-                p.position.x,
-                p.position.y,
-                p.position.z,
-                p.yaw,
-                p.pitch,
-                p.roll,
-            ];
-            for (k, (name, unit, du, what)) in INPUTS.iter().enumerate() {
-                let what = match k {
-                    0..=2 => format!("disc centre {what}"),
-                    3..=5 => format!("cutter frame {what}"),
-                    6..=8 => format!("disc centre {what}"),
-                    _ => format!("disc {what} (spin about the axle included)"),
-                };
-                v.push(real(
-                    format!("cutter[{n}].{name}"),
-                    disc_vr(i, INPUT_BASE + k),
-                    Causality::Input,
-                    Variability::Continuous,
-                    Some(fmt(if k < 6 { start[k] } else { 0.0 })),
-                    unit,
-                    *du,
-                    None,
-                    None,
-                    format!("Disc {n}: {what} (kerf.fmu's meaning; start: its mount with the head at rest)"),
-                    Slot::DiscInput(i, k),
-                ));
-            }
-        }
-        for (k, (name, unit, du, what)) in DISC_OUTPUTS.iter().enumerate() {
-            v.push(real(
-                format!("cutter[{n}].{name}"),
-                disc_vr(i, OUTPUT_BASE + k),
-                Causality::Output,
-                Variability::Continuous,
-                None,
-                unit,
-                *du,
-                None,
-                None,
-                format!("Disc {n}: {what}"),
-                Slot::DiscOutput(i, k),
-            ));
-        }
-        v.push(HeadVar {
-            name: format!("cutter[{n}].inContact"),
-            vr: disc_vr(i, IN_CONTACT),
-            ty: Ty::Boolean,
-            causality: Causality::Output,
-            variability: Variability::Discrete,
-            start: None,
-            unit: None,
-            display_unit: None,
-            min: None,
-            max: None,
-            description: Some(format!(
-                "Disc {n}: some rim point below the rock surface bears load"
-            )),
-            slot: Slot::DiscInContact(i),
-        });
-    }
-    v
+    shared.into_iter().map(|(_, x)| x).collect()
 }
 
 /// What the head FMU packs in `resources/head.json`: the layout, the drive

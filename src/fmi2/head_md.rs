@@ -423,8 +423,8 @@ pub fn variables(layout: &Layout, drive: Drive) -> Vec<HeadVar> {
                     (unit, *du),
                     *what,
                 );
-                // (the excavation totals past the forces and moments change at
-                // commits only)
+                // (the totals after the forces, moments, thrust and torque:
+                // the excavation's, which change at commits only)
                 if k >= 8 {
                     var.variability(Variability::Discrete)
                 } else {

@@ -118,29 +118,26 @@ impl Circle {
 /// The circles of the disc's surface the query walks: the `n` rim slices,
 /// then rings on each side face (the hub faces with flanks) over the part of
 /// it that reaches below `z_top` (when `rings`: the faces carry load), then
-/// bands along the flanks, written from the start of `circles`; returns
-/// their count. (Filled in place: the array is some 10 kB.)
+/// bands along the flanks, pushed onto `circles` (empty before).
 pub(super) fn surface_circles(
-    circles: &mut [Circle; MAX_CIRCLES],
+    circles: &mut ArrayVec<Circle, MAX_CIRCLES>,
     disc: &PosedDisc,
     n: usize,
     z_top: f64,
     cell: f64,
     rings: bool,
-) -> usize {
+) {
     let h = disc.half_width;
-    let mut nc = 0;
     for k in 0..n {
         let y = slice_y(h, n, k);
-        circles[nc] = Circle {
+        circles.push(Circle {
             y,
             radius: disc.rho(y),
             width: 2.0 * h / n as f64,
             face: 0.0,
             flank: false,
             sub: false,
-        };
-        nc += 1;
+        });
     }
     for side in [1.0f64, -1.0] {
         let Some((r_lo, r_hi)) = face_below(disc, side, z_top).filter(|_| rings) else {
@@ -149,15 +146,14 @@ pub(super) fn surface_circles(
         let nr = (((r_hi - r_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_RINGS);
         let dr = (r_hi - r_lo) / nr as f64;
         for j in 0..nr {
-            circles[nc] = Circle {
+            circles.push(Circle {
                 y: side * h,
                 radius: r_lo + dr * (j as f64 + 0.5),
                 width: dr,
                 face: side,
                 flank: false,
                 sub: false,
-            };
-            nc += 1;
+            });
         }
     }
     for side in [1.0f64, -1.0] {
@@ -168,17 +164,15 @@ pub(super) fn surface_circles(
             for j in 0..nb {
                 let s = s_lo + ds * (j as f64 + 0.5);
                 let y = side * (h + s * sn);
-                circles[nc] = Circle {
+                circles.push(Circle {
                     y,
                     radius: disc.rho_full(y),
                     width: ds,
                     face: side,
                     flank: true,
                     sub: false,
-                };
-                nc += 1;
+                });
             }
         }
     }
-    nc
 }

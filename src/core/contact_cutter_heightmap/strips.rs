@@ -44,23 +44,20 @@ pub(super) const SPLIT_TILT: f64 = 0.087;
 pub(super) const UNEVEN_DEPTH: f64 = 0.3e-3;
 
 /// Splits rim slice `k`'s strip (middle `yk`, width `w`) in thirds,
-/// blended in by `s`: the slice
-/// keeps `1 - 2 s / 3` of its strip and two new circles at the middles of
-/// the outer thirds carry `s / 3` each.
-#[allow(clippy::too_many_arguments)]
+/// blended in by `s`: the slice keeps `1 - 2 s / 3` of its strip and two
+/// new circles at the middles of the outer thirds, walked by `walk_at`,
+/// carry `s / 3` each.
 pub(super) fn split_in_thirds(
-    circles: &mut [Circle],
-    (walks, drives, drivings): WalkedCircles<'_>,
-    nc: &mut usize,
+    surface: &mut Surface,
     (k, yk, w): (usize, f64, f64),
     s: f64,
     walk_at: &dyn Fn(f64) -> Walked,
     disc: &PosedDisc,
 ) {
-    circles[k].width = w * (1.0 - 2.0 * s / 3.0);
-    circles[k].sub = true;
+    surface.circles[k].width = w * (1.0 - 2.0 * s / 3.0);
+    surface.circles[k].sub = true;
     for y in [yk - w / 3.0, yk + w / 3.0] {
-        circles[*nc] = Circle {
+        let c = Circle {
             y,
             radius: disc.rho(y),
             width: s * w / 3.0,
@@ -68,8 +65,7 @@ pub(super) fn split_in_thirds(
             flank: false,
             sub: true,
         };
-        (walks[*nc], drives[*nc], drivings[*nc]) = walk_at(y);
-        *nc += 1;
+        surface.push(c, walk_at(y));
     }
 }
 

@@ -249,13 +249,6 @@ pub(super) type Finished = (Arc, [(f64, f64); 2]);
 /// rest speed or the circle out of reach).
 pub(super) type Walked = ([Option<Walk>; 2], [bool; 2], Option<Driving>);
 
-/// Every circle's [`Walked`], as three arrays.
-pub(super) type WalkedCircles<'a> = (
-    &'a mut [[Option<Walk>; 2]],
-    &'a mut [[bool; 2]],
-    &'a mut [Option<Driving>],
-);
-
 /// World heights of a walk's rim at its start `a`, at its last sample
 /// inside `b_in`, and at the far end of its end's bracket (`b_out`, else
 /// `b_in`): what the depth bounds and the unrefined ends read, once; with

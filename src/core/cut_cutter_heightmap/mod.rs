@@ -21,6 +21,7 @@ use super::contact_law::smoothstep;
 use super::cutter::{Columns, PosedDisc};
 use super::heightmap::{Grid, HeightMap, Patch, TileRect};
 use super::params::Numerics;
+use nalgebra::{Matrix3, Vector3};
 
 mod back;
 mod front;
@@ -111,32 +112,7 @@ fn sweep_nodes<M: Nodes>(
 ) -> (CutStats, bool) {
     let mut stats = CutStats::default();
     let g = *map.grid();
-    let area = g.cell_area();
-    let rt = disc.rot.transpose();
-    let d = rt.column(2).into_owned();
-    let horizontal = d.y.abs() < 1e-12;
-    // a tilted flank-less disc's lines, with what depends on their
-    // direction found once a cut
-    let columns = (!horizontal && !disc.has_flanks()).then(|| Columns::new(disc, d));
-    let step = rt.column(0) * g.dx;
-    // the solid's half-width: the hub's with flanks (`rho_full` is the tip
-    // profile across the tip, bit for bit)
-    let h = disc.hub_half_width;
-    // what a node above the boundary `z_low` becomes (`None`: it stays)
-    let lower = |stats: &mut CutStats, z: f64, z_low: f64| {
-        let excess = z - (z_low + elastic_depth);
-        if excess <= CUT_TOLERANCE {
-            return None;
-        }
-        // without a fraction (a probe) the node only tells that it would fall
-        let Some(f) = fraction else {
-            return Some(z);
-        };
-        let drop = f * excess;
-        stats.volume += drop * area;
-        stats.nodes += 1;
-        Some(z - drop)
-    };
+    let sweep = Sweep::new(disc, &g, elastic_depth, fraction);
     for j in w.j0..=w.j1 {
         let Some((r0, r1)) = w.row(j) else {
             continue;
@@ -145,82 +121,190 @@ fn sweep_nodes<M: Nodes>(
         // rounding of a spinning pose may leave it drifting by less than
         // 1e-15 m, nothing to the heights) lies in one vertical plane,
         // whose lowest point of the solid bounds the cut
-        let flat_row = (step.y * (r1 - r0) as f64).abs() <= 1e-15;
+        let flat_row = (sweep.step.y * (r1 - r0) as f64).abs() <= 1e-15;
         let (x0, y) = g.node_xy(r0, j);
         // (each node's local coordinates count from the row's first node,
         // whichever run of the row it lies in: a gap changes no height)
-        let a0 = rt * nalgebra::Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);
+        let a0 = sweep.rt * Vector3::new(x0 - disc.centre.x, y - disc.centre.y, -disc.centre.z);
         for (i0, i1) in w.runs(j) {
-            let skipped = i0 - r0;
-            let stats = &mut stats;
-            let stopped = if horizontal {
-                // Axle horizontal: the vertical line through a node stays in the
-                // plane y_local = q.y and meets the rim circle of radius
-                // rho(q.y) there. With b = q.d (d is a unit vector in the x-z
-                // plane) and w the offset across d in that plane, the lower
-                // boundary is -b - sqrt(rho^2 - w^2). q.y, b and w are affine
-                // along the row: node k's are start + k * step.
-                let a = a0;
-                let (b0, db) = (a.x * d.x + a.z * d.z, step.x * d.x + step.z * d.z);
-                let (w0, dw) = (a.x * d.z - a.z * d.x, step.x * d.z - step.z * d.x);
-                let (y0, dy) = (a.y, step.y);
-                // (the plane's solid is the rim circle at y_local)
-                let floor = if flat_row && y0.abs() <= h {
-                    disc.centre.z - disc.rho_full(y0) + elastic_depth + CUT_TOLERANCE
-                } else {
-                    f64::NEG_INFINITY
-                };
-                let mut k = skipped as f64 - 1.0;
-                map.lower_row(j, i0, i1, |z| {
-                    k += 1.0;
-                    if z <= floor {
-                        return None;
-                    }
-                    let qy = y0 + k * dy;
-                    if qy.abs() > h {
-                        return None;
-                    }
-                    let rho = disc.rho_full(qy);
-                    let w = w0 + k * dw;
-                    let disc2 = rho * rho - w * w;
-                    if disc2 < 0.0 {
-                        return None;
-                    }
-                    lower(stats, z, -(b0 + k * db) - disc2.sqrt())
-                })
+            let run = (j, i0, i1);
+            let stopped = if sweep.horizontal {
+                sweep.upright_run(map, run, (a0, i0 - r0, flat_row), &mut stats)
             } else {
-                let mut a = a0;
-                for _ in 0..skipped {
-                    a += step;
-                }
-                // (a plane that misses the solid: nothing to cut in the row)
-                let floor = if flat_row && !disc.has_flanks() {
-                    disc.row_floor(&a0, &d, &step)
-                        .map_or(f64::INFINITY, |t| t + elastic_depth + CUT_TOLERANCE)
-                } else {
-                    f64::NEG_INFINITY
-                };
-                map.lower_row(j, i0, i1, |z| {
-                    // local coordinates are affine along a row
-                    let q = a;
-                    a += step;
-                    if z <= floor {
-                        return None;
-                    }
-                    let cap = z - elastic_depth - CUT_TOLERANCE;
-                    let z_low = match &columns {
-                        Some(c) => c.lower_end(&q, cap)?.0,
-                        None => disc.column_lower_end(&q, &d, cap)?.0,
-                    };
-                    lower(stats, z, z_low)
-                })
+                sweep.tilted_run(map, run, (a0, i0 - r0, flat_row), &mut stats)
             };
             if stopped {
-                return (*stats, true);
+                return (stats, true);
             }
         }
     }
     (stats, stats.nodes > 0)
+}
+
+/// What a cut's walk of its window knows of the disc, found once a cut:
+/// the vertical lines through the nodes in the disc's frame, and what a
+/// node above the disc's lower boundary becomes.
+struct Sweep<'a> {
+    disc: &'a PosedDisc,
+    /// The rock frame to the disc's.
+    rt: Matrix3<f64>,
+    /// The rock's vertical, and one node along a row, in the disc's frame.
+    d: Vector3<f64>,
+    step: Vector3<f64>,
+    /// The axle is horizontal: each node's vertical line lies in a plane
+    /// across the axle.
+    horizontal: bool,
+    /// A tilted flank-less disc's lines, with what depends on their
+    /// direction found once a cut.
+    columns: Option<Columns<'a>>,
+    /// The solid's half-width: the hub's with flanks (`rho_full` is the tip
+    /// profile across the tip, bit for bit).
+    h: f64,
+    lowering: Lowering,
+}
+
+/// What a node above the disc's lower boundary becomes: lowered by
+/// `fraction` of its excess over the elastic layer, or, without a fraction
+/// (a probe), only found.
+#[derive(Clone, Copy)]
+struct Lowering {
+    elastic_depth: f64,
+    fraction: Option<f64>,
+    area: f64,
+}
+
+impl Lowering {
+    /// What a node at `z` above the boundary `z_low` becomes (`None`: it
+    /// stays).
+    #[inline(always)]
+    fn apply(self, stats: &mut CutStats, z: f64, z_low: f64) -> Option<f64> {
+        let excess = z - (z_low + self.elastic_depth);
+        if excess <= CUT_TOLERANCE {
+            return None;
+        }
+        let Some(f) = self.fraction else {
+            return Some(z);
+        };
+        let drop = f * excess;
+        stats.volume += drop * self.area;
+        stats.nodes += 1;
+        Some(z - drop)
+    }
+}
+
+impl<'a> Sweep<'a> {
+    fn new(disc: &'a PosedDisc, g: &Grid, elastic_depth: f64, fraction: Option<f64>) -> Self {
+        let rt = disc.rot.transpose();
+        let d = rt.column(2).into_owned();
+        let horizontal = d.y.abs() < 1e-12;
+        Self {
+            disc,
+            rt,
+            d,
+            step: rt.column(0) * g.dx,
+            horizontal,
+            columns: (!horizontal && !disc.has_flanks()).then(|| Columns::new(disc, d)),
+            h: disc.hub_half_width,
+            lowering: Lowering {
+                elastic_depth,
+                fraction,
+                area: g.cell_area(),
+            },
+        }
+    }
+
+    /// Nodes `i0..=i1` of row `j` under a horizontal axle; `a0` is the local
+    /// point of the row's first node, which lies `skipped` nodes before
+    /// `i0`, and `flat` says the row keeps its axle coordinate. Returns
+    /// whether a probe stopped.
+    ///
+    /// The vertical line through a node stays in the plane y_local = q.y
+    /// and meets the rim circle of radius rho(q.y) there. With b = q.d (d
+    /// is a unit vector in the x-z plane) and w the offset across d in that
+    /// plane, the lower boundary is -b - sqrt(rho^2 - w^2). q.y, b and w
+    /// are affine along the row: node k's are start + k * step.
+    ///
+    /// (The two kinds of run take the row's parts as arguments: a struct
+    /// of them built for each run made a gauge cutter's step 0.6 % dearer,
+    /// 235.4 against 234.0 k instructions, `tools/instr_per_step.py`.)
+    #[inline(always)]
+    fn upright_run<M: Nodes>(
+        &self,
+        map: &mut M,
+        (j, i0, i1): (usize, usize, usize),
+        (a0, skipped, flat): (Vector3<f64>, usize, bool),
+        stats: &mut CutStats,
+    ) -> bool {
+        let (a, d, step, disc, h) = (a0, &self.d, &self.step, self.disc, self.h);
+        let lowering = self.lowering;
+        let (b0, db) = (a.x * d.x + a.z * d.z, step.x * d.x + step.z * d.z);
+        let (w0, dw) = (a.x * d.z - a.z * d.x, step.x * d.z - step.z * d.x);
+        let (y0, dy) = (a.y, step.y);
+        // (the plane's solid is the rim circle at y_local)
+        let floor = if flat && y0.abs() <= h {
+            disc.centre.z - disc.rho_full(y0) + lowering.elastic_depth + CUT_TOLERANCE
+        } else {
+            f64::NEG_INFINITY
+        };
+        let mut k = skipped as f64 - 1.0;
+        map.lower_row(j, i0, i1, |z| {
+            k += 1.0;
+            if z <= floor {
+                return None;
+            }
+            let qy = y0 + k * dy;
+            if qy.abs() > h {
+                return None;
+            }
+            let rho = disc.rho_full(qy);
+            let w = w0 + k * dw;
+            let disc2 = rho * rho - w * w;
+            if disc2 < 0.0 {
+                return None;
+            }
+            lowering.apply(stats, z, -(b0 + k * db) - disc2.sqrt())
+        })
+    }
+
+    /// [`Sweep::upright_run`] under a tilted axle: each node's vertical line
+    /// solved for its lower end in the solid below the node.
+    #[inline(always)]
+    fn tilted_run<M: Nodes>(
+        &self,
+        map: &mut M,
+        (j, i0, i1): (usize, usize, usize),
+        (a0, skipped, flat): (Vector3<f64>, usize, bool),
+        stats: &mut CutStats,
+    ) -> bool {
+        let (disc, d, step) = (self.disc, &self.d, self.step);
+        let (lowering, columns) = (self.lowering, self.columns.as_ref());
+        let elastic_depth = lowering.elastic_depth;
+        let mut a = a0;
+        for _ in 0..skipped {
+            a += step;
+        }
+        // (a plane that misses the solid: nothing to cut in the row)
+        let floor = if flat && !disc.has_flanks() {
+            disc.row_floor(&a0, d, &step)
+                .map_or(f64::INFINITY, |t| t + elastic_depth + CUT_TOLERANCE)
+        } else {
+            f64::NEG_INFINITY
+        };
+        map.lower_row(j, i0, i1, |z| {
+            // local coordinates are affine along a row
+            let q = a;
+            a += step;
+            if z <= floor {
+                return None;
+            }
+            let cap = z - elastic_depth - CUT_TOLERANCE;
+            let z_low = match columns {
+                Some(c) => c.lower_end(&q, cap)?.0,
+                None => disc.column_lower_end(&q, d, cap)?.0,
+            };
+            lowering.apply(stats, z, z_low)
+        })
+    }
 }
 
 /// Cuts the rock at the disc's pose, no further than `front` ahead and

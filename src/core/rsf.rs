@@ -75,13 +75,10 @@ pub fn read(path: &Path, grid: Grid, z0: f64) -> Result<HeightMap> {
     let f = std::fs::File::open(path).map_err(|e| err(path, 0, format!("cannot open: {e}")))?;
     let mut reader = BufReader::new(f);
     let mut map = HeightMap::flat(grid, z0);
-    // which nodes were seen, per tile of the map: grows with the file
-    let mut seen: HashMap<usize, [u64; TILE * TILE / 64]> = HashMap::new();
-    let tiles_x = grid.nx.div_ceil(TILE);
+    let mut seen = Seen::new(&grid);
+    let tol = node_tolerance(&grid);
     let mut count = 0usize;
     let mut sparse = false;
-    let tol_x = 1e-6 * grid.dx.max(1e-300) + 1e-9 * grid.x_min.abs().max(grid.x_max().abs());
-    let tol_y = 1e-6 * grid.dy.max(1e-300) + 1e-9 * grid.y_min.abs().max(grid.y_max().abs());
     let mut buf = Vec::new();
     let mut ln = 0usize;
     loop {
@@ -119,66 +116,14 @@ pub fn read(path: &Path, grid: Grid, z0: f64) -> Result<HeightMap> {
         if t.is_empty() || t.starts_with('#') {
             continue;
         }
-        let fields: Vec<&str> = t.split_whitespace().collect();
-        if fields.len() != 5 {
-            return Err(err(
-                path,
-                ln,
-                format!("expected 5 fields `L K x y z`, found {}", fields.len()),
-            ));
-        }
-        let idx = |s: &str, name: &str, max: usize| -> Result<usize> {
-            let v: f64 = s
-                .parse()
-                .map_err(|_| err(path, ln, format!("{name} = {s:?} is not a number")))?;
-            if v.fract() != 0.0 || v < 1.0 || v > max as f64 {
-                return Err(err(
-                    path,
-                    ln,
-                    format!("{name} = {s} is not a node index in 1..={max}"),
-                ));
-            }
-            Ok(v as usize - 1)
-        };
-        let num = |s: &str, name: &str| -> Result<f64> {
-            let v: f64 = s
-                .parse()
-                .map_err(|_| err(path, ln, format!("{name} = {s:?} is not a number")))?;
-            if !v.is_finite() {
-                return Err(err(path, ln, format!("{name} = {s} is not finite")));
-            }
-            Ok(v)
-        };
-        let i = idx(fields[0], "L", grid.nx)?;
-        let j = idx(fields[1], "K", grid.ny)?;
-        let (x, y, z) = (
-            num(fields[2], "x")?,
-            num(fields[3], "y")?,
-            num(fields[4], "z")?,
-        );
-        let (gx, gy) = grid.node_xy(i, j);
-        if (x - gx).abs() > tol_x || (y - gy).abs() > tol_y {
-            return Err(err(
-                path,
-                ln,
-                format!(
-                    "node ({}, {}) is at ({x}, {y}) but the declared grid puts it at ({gx}, {gy})",
-                    i + 1,
-                    j + 1
-                ),
-            ));
-        }
-        let tile = (j / TILE) * tiles_x + i / TILE;
-        let bit = (j % TILE) * TILE + i % TILE;
-        let bits = seen.entry(tile).or_insert([0; TILE * TILE / 64]);
-        if bits[bit / 64] & (1 << (bit % 64)) != 0 {
+        let (i, j, z) = node_line(t, &grid, tol, path, ln)?;
+        if !seen.insert(i, j) {
             return Err(err(
                 path,
                 ln,
                 format!("node ({}, {}) appears twice", i + 1, j + 1),
             ));
         }
-        bits[bit / 64] |= 1 << (bit % 64);
         count += 1;
         if z != z0 {
             map.set_node(i, j, z);
@@ -198,6 +143,104 @@ pub fn read(path: &Path, grid: Grid, z0: f64) -> Result<HeightMap> {
         ));
     }
     Ok(map)
+}
+
+/// How far a node line's coordinates may lie from the grid's node: a
+/// millionth of a cell, and the coordinates' own rounding.
+fn node_tolerance(grid: &Grid) -> (f64, f64) {
+    (
+        1e-6 * grid.dx.max(1e-300) + 1e-9 * grid.x_min.abs().max(grid.x_max().abs()),
+        1e-6 * grid.dy.max(1e-300) + 1e-9 * grid.y_min.abs().max(grid.y_max().abs()),
+    )
+}
+
+/// A node line `L K x y z` of `grid`: its 0-based indices and height, the
+/// indices whole and on the grid, the coordinates at that node within `tol`
+/// ([`node_tolerance`]) and every number finite.
+fn node_line(
+    t: &str,
+    grid: &Grid,
+    (tol_x, tol_y): (f64, f64),
+    path: &Path,
+    ln: usize,
+) -> Result<(usize, usize, f64)> {
+    let fields: Vec<&str> = t.split_whitespace().collect();
+    if fields.len() != 5 {
+        return Err(err(
+            path,
+            ln,
+            format!("expected 5 fields `L K x y z`, found {}", fields.len()),
+        ));
+    }
+    let idx = |s: &str, name: &str, max: usize| -> Result<usize> {
+        let v: f64 = s
+            .parse()
+            .map_err(|_| err(path, ln, format!("{name} = {s:?} is not a number")))?;
+        if v.fract() != 0.0 || v < 1.0 || v > max as f64 {
+            return Err(err(
+                path,
+                ln,
+                format!("{name} = {s} is not a node index in 1..={max}"),
+            ));
+        }
+        Ok(v as usize - 1)
+    };
+    let num = |s: &str, name: &str| -> Result<f64> {
+        let v: f64 = s
+            .parse()
+            .map_err(|_| err(path, ln, format!("{name} = {s:?} is not a number")))?;
+        if !v.is_finite() {
+            return Err(err(path, ln, format!("{name} = {s} is not finite")));
+        }
+        Ok(v)
+    };
+    let i = idx(fields[0], "L", grid.nx)?;
+    let j = idx(fields[1], "K", grid.ny)?;
+    let (x, y, z) = (
+        num(fields[2], "x")?,
+        num(fields[3], "y")?,
+        num(fields[4], "z")?,
+    );
+    let (gx, gy) = grid.node_xy(i, j);
+    if (x - gx).abs() > tol_x || (y - gy).abs() > tol_y {
+        return Err(err(
+            path,
+            ln,
+            format!(
+                "node ({}, {}) is at ({x}, {y}) but the declared grid puts it at ({gx}, {gy})",
+                i + 1,
+                j + 1
+            ),
+        ));
+    }
+    Ok((i, j, z))
+}
+
+/// The nodes a file has listed, a bit each, per tile of the map: grows with
+/// the file, not with the grid.
+struct Seen {
+    tiles: HashMap<usize, [u64; TILE * TILE / 64]>,
+    tiles_x: usize,
+}
+
+impl Seen {
+    fn new(grid: &Grid) -> Self {
+        Self {
+            tiles: HashMap::new(),
+            tiles_x: grid.nx.div_ceil(TILE),
+        }
+    }
+
+    /// Marks node `(i, j)` seen; `false` if it was already.
+    fn insert(&mut self, i: usize, j: usize) -> bool {
+        let tile = (j / TILE) * self.tiles_x + i / TILE;
+        let bit = (j % TILE) * TILE + i % TILE;
+        let bits = self.tiles.entry(tile).or_insert([0; TILE * TILE / 64]);
+        let (word, mask) = (bit / 64, 1u64 << (bit % 64));
+        let new = bits[word] & mask == 0;
+        bits[word] |= mask;
+        new
+    }
 }
 
 /// The nodes a sparse file lists: those whose height differs from the

@@ -100,12 +100,58 @@ fn run() -> Res<PathBuf> {
     if !root.join("modelDescription/modelDescription.xml").is_file() {
         return Err(format!("{} is not the kerf workspace root", root.display()));
     }
+    build_library(&root)?;
+    let target = target_dir(&root);
 
+    let so = read(&target.join("release/libkerf.so"))?;
+    let xml = String::from_utf8(read(&root.join("modelDescription/modelDescription.xml"))?)
+        .map_err(|_| "modelDescription.xml is not UTF-8")?;
+    let template = String::from_utf8(read(&here.join("doc/index.html"))?)
+        .map_err(|_| "index.html is not UTF-8")?;
+    if !template.contains("<!--VARIABLES-->") {
+        return Err("packaging/doc/index.html lacks the <!--VARIABLES--> marker".into());
+    }
+    let readme = read(&here.join("resources/README.txt"))?;
+    let mut extra: Vec<(&str, Vec<u8>)> = Vec::new();
+    let (xml, name) = match &layout {
+        None => (xml, "kerf".to_string()),
+        Some((l, text)) => {
+            let file = args.layout.as_ref().unwrap().display().to_string();
+            let (head_xml, guid) = head::model_description(&xml, l, args.drive, &file)?;
+            let manifest = kerf::fmi2::head_md::manifest(text, args.drive, &guid);
+            extra.push(("resources/head.json", manifest.into_bytes()));
+            extra.push(("resources/layout.json", text.clone().into_bytes()));
+            (head_xml, l.name.clone())
+        }
+    };
+    let html = template.replace("<!--VARIABLES-->", &variable_table(&xml)?);
+
+    let out = match &args.out {
+        Some(p) => p.clone(),
+        None => target.join("fmu").join(format!("{name}.fmu")),
+    };
+    let entries: [(&str, &[u8], u32); 4] = [
+        ("modelDescription.xml", xml.as_bytes(), 0o644),
+        ("binaries/linux64/kerf.so", &so, 0o755),
+        ("documentation/index.html", html.as_bytes(), 0o644),
+        ("resources/README.txt", &readme, 0o644),
+    ];
+    write_fmu(
+        &out,
+        entries
+            .into_iter()
+            .chain(extra.iter().map(|(n, d)| (*n, d.as_slice(), 0o644))),
+    )?;
+    Ok(out)
+}
+
+/// Builds the FMU's library in release (and packaging with it: the same
+/// package set as `cargo run -p packaging`, one feature resolution, so kerf
+/// is not built twice).
+fn build_library(root: &Path) -> Res<()> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(&cargo)
-        .current_dir(&root)
-        // the same package set as `cargo run -p packaging` (packaging depends on
-        // kerf): one feature resolution, so kerf is not built twice
+        .current_dir(root)
         .args(["build", "--release", "-p", "kerf", "-p", "packaging"])
         .status()
         .map_err(|e| format!("cannot run {}: {e}", cargo.to_string_lossy()))?;
@@ -114,46 +160,27 @@ fn run() -> Res<PathBuf> {
             "cargo build --release -p kerf -p packaging failed ({status})"
         ));
     }
+    Ok(())
+}
 
+/// Cargo's target directory: `CARGO_TARGET_DIR` (relative to the workspace
+/// root), or `target` there.
+fn target_dir(root: &Path) -> PathBuf {
     let target = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| root.join("target"));
-    let target = if target.is_relative() {
+    if target.is_relative() {
         root.join(target)
     } else {
         target
-    };
-    let so = read(&target.join("release/libkerf.so"))?;
-    let xml_bytes = read(&root.join("modelDescription/modelDescription.xml"))?;
-    let xml =
-        String::from_utf8(xml_bytes.clone()).map_err(|_| "modelDescription.xml is not UTF-8")?;
-    let template = String::from_utf8(read(&here.join("doc/index.html"))?)
-        .map_err(|_| "index.html is not UTF-8")?;
-    if !template.contains("<!--VARIABLES-->") {
-        return Err("packaging/doc/index.html lacks the <!--VARIABLES--> marker".into());
     }
-    let readme = read(&here.join("resources/README.txt"))?;
-    let mut extra: Vec<(&str, Vec<u8>)> = Vec::new();
-    let (xml_bytes, name) = match &layout {
-        None => (xml_bytes, "kerf".to_string()),
-        Some((l, text)) => {
-            let file = args.layout.as_ref().unwrap().display().to_string();
-            let (head_xml, guid) = head::model_description(&xml, l, args.drive, &file)?;
-            let manifest = kerf::fmi2::head_md::manifest(text, args.drive, &guid);
-            extra.push(("resources/head.json", manifest.into_bytes()));
-            extra.push(("resources/layout.json", text.clone().into_bytes()));
-            (head_xml.into_bytes(), l.name.clone())
-        }
-    };
-    let xml =
-        String::from_utf8(xml_bytes.clone()).map_err(|_| "modelDescription.xml is not UTF-8")?;
-    let html = template.replace("<!--VARIABLES-->", &variable_table(&xml)?);
+}
 
-    let out_dir = target.join("fmu");
-    let out = match &args.out {
-        Some(p) => p.clone(),
-        None => out_dir.join(format!("{name}.fmu")),
-    };
+/// Writes the FMU archive `out` with the standard directories and
+/// `entries` (name, bytes, unix mode), deflated, with fixed times so that
+/// the same inputs give the same bytes; through a temporary file, so a
+/// failed write leaves no partial FMU.
+fn write_fmu<'a>(out: &Path, entries: impl Iterator<Item = (&'a str, &'a [u8], u32)>) -> Res<()> {
     let out_dir = out
         .parent()
         .map(Path::to_path_buf)
@@ -163,7 +190,6 @@ fn run() -> Res<PathBuf> {
     let tmp = out.with_extension("fmu.tmp");
     let file =
         std::fs::File::create(&tmp).map_err(|e| format!("cannot create {}: {e}", tmp.display()))?;
-
     let mut zip = ZipWriter::new(file);
     let opts = |mode: u32| {
         SimpleFileOptions::default()
@@ -180,24 +206,14 @@ fn run() -> Res<PathBuf> {
     ] {
         zip.add_directory(dir, opts(0o755)).map_err(z)?;
     }
-    let entries: [(&str, &[u8], u32); 4] = [
-        ("modelDescription.xml", &xml_bytes, 0o644),
-        ("binaries/linux64/kerf.so", &so, 0o755),
-        ("documentation/index.html", html.as_bytes(), 0o644),
-        ("resources/README.txt", &readme, 0o644),
-    ];
-    for (name, data, mode) in entries
-        .into_iter()
-        .chain(extra.iter().map(|(n, d)| (*n, d.as_slice(), 0o644)))
-    {
+    for (name, data, mode) in entries {
         zip.start_file(name, opts(mode)).map_err(z)?;
         zip.write_all(data)
             .map_err(|e| format!("writing {}: {e}", tmp.display()))?;
     }
     zip.finish().map_err(z)?;
-    std::fs::rename(&tmp, &out)
-        .map_err(|e| format!("cannot move {} to {}: {e}", tmp.display(), out.display()))?;
-    Ok(out)
+    std::fs::rename(&tmp, out)
+        .map_err(|e| format!("cannot move {} to {}: {e}", tmp.display(), out.display()))
 }
 
 pub(crate) fn escape(s: &str) -> String {

@@ -66,6 +66,7 @@ const INTERFACE: &[(&str, &str, &str, &str)] = &[
     ("rock.plasticFraction", "Real", "parameter", "1"),
     ("numerics.tipSlices", "Integer", "parameter", ""),
     ("numerics.arcStepCells", "Real", "parameter", "1"),
+    ("numerics.ringStepCells", "Real", "parameter", "1"),
     ("numerics.elasticDepth", "Real", "parameter", "m"),
     ("numerics.pReg", "Real", "parameter", "m"),
     ("numerics.sweepStep", "Real", "parameter", "m"),

@@ -3,7 +3,8 @@
 //! revolution at `rpm`, 1 ms steps) for `steps` steps at each setting
 //! `cell_mm:sweep_mm` (`cell_mm:sweep_mm:whole`: every cut takes the
 //! disc's whole front arc, `numerics.cut_ahead`; `...:sN`: `N` tip slices,
-//! `numerics.tip_slices`); each setting's mean thrust, torque and per-disc
+//! `numerics.tip_slices`; `...:rX`: side-face rings `X` cells apart,
+//! `numerics.ring_step_cells`); each setting's mean thrust, torque and per-disc
 //! loads are compared with the first setting's (the reference).
 //! `cargo run --release --example head_cells -- layouts/reference-9.72m.json 300 0.5:0.5 1:1 2:2`
 //! (docs/head.md, "Gauge cutters on curved tracks"). Prints one row a
@@ -26,12 +27,13 @@ struct Run {
     side: Vec<f64>,
 }
 
-/// Cell, sweep step, whole cuts, tip slices (`None`: the default).
-type Setting = (f64, f64, bool, Option<usize>);
+/// Cell, sweep step, whole cuts, tip slices and ring step (`None`: the
+/// default).
+type Setting = (f64, f64, bool, Option<usize>, Option<f64>);
 
 fn run(
     file: &str,
-    (cell, sweep, whole, slices): Setting,
+    (cell, sweep, whole, slices, rings): Setting,
     steps: usize,
     rpm: f64,
     p_rev: f64,
@@ -48,6 +50,9 @@ fn run(
     p.numerics.cut_ahead = whole;
     if let Some(n) = slices {
         p.numerics.tip_slices = n;
+    }
+    if let Some(r) = rings {
+        p.numerics.ring_step_cells = r;
     }
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
     let n = specs.len();
@@ -92,7 +97,7 @@ fn main() {
                 let mut f = s.split(':');
                 let mut mm = || {
                     f.next()
-                        .expect("cell_mm:sweep_mm[:whole][:sN]")
+                        .expect("cell_mm:sweep_mm[:whole][:sN][:rX]")
                         .parse::<f64>()
                         .unwrap()
                         * 1e-3
@@ -101,14 +106,17 @@ fn main() {
                 let slices = s
                     .split(':')
                     .find_map(|t| t.strip_prefix('s').map(|n| n.parse().unwrap()));
-                (c, w, s.split(':').any(|t| t == "whole"), slices)
+                let rings = s
+                    .split(':')
+                    .find_map(|t| t.strip_prefix('r').map(|x| x.parse().unwrap()));
+                (c, w, s.split(':').any(|t| t == "whole"), slices, rings)
             })
             .collect()
     } else {
         vec![
-            (0.5e-3, 0.5e-3, false, None),
-            (1e-3, 1e-3, false, None),
-            (2e-3, 2e-3, false, None),
+            (0.5e-3, 0.5e-3, false, None, None),
+            (1e-3, 1e-3, false, None, None),
+            (2e-3, 2e-3, false, None, None),
         ]
     };
     let (rpm, p_rev) = (3.0, 0.006);
@@ -123,7 +131,7 @@ fn main() {
     let mut reference: Option<Run> = None;
     for setting in settings {
         let r = run(file, setting, steps, rpm, p_rev);
-        let (cell, sweep, whole, slices) = setting;
+        let (cell, sweep, whole, slices, rings) = setting;
         let (e_t, e_q, e_n, e_s) = match &reference {
             None => (0.0, 0.0, 0.0, 0.0),
             Some(f) => {
@@ -148,6 +156,9 @@ fn main() {
         }
         if let Some(n) = slices {
             sweep += &format!(", {n} tip slices");
+        }
+        if let Some(r) = rings {
+            sweep += &format!(", rings {r} cells apart");
         }
         println!(
             "| {} | {} | {:.2} | {:.0} | {:+.2} % | {:.0} | {:+.2} % | {:.2} % | {:.2} % |",

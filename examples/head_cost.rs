@@ -1,6 +1,6 @@
 //! Cost of a cutterhead step: the layout's discs boring from the steady
 //! start at `rpm` with `p_rev` per revolution, `steps` steps of `h`.
-//! `cargo run --release --example head_cost -- layouts/reference-9.72m.json [h] [steps] [rpm] [p_rev] [sweep_step] [cell]`
+//! `cargo run --release --example head_cost -- layouts/reference-9.72m.json [h] [steps] [rpm] [p_rev] [sweep_step] [cell] [ring_step_cells]`
 //! Prints the median wall time per step (and the mean) and per disc-step,
 //! and the wall time per machine second from the total (set
 //! RAYON_NUM_THREADS for the thread count; WHOLE_CUTS=1 makes every cut
@@ -25,6 +25,7 @@ fn main() {
         p.numerics.sweep_step = s.parse().unwrap();
     }
     p.numerics.cut_ahead = std::env::var_os("WHOLE_CUTS").is_some();
+    p.numerics.ring_step_cells = num(7, 0.5);
     let specs: Vec<DiscSpec> = lay.cutters.iter().map(DiscSpec::from_layout).collect();
     let n = specs.len();
     let mut head = Head::new(p, specs).unwrap();

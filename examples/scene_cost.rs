@@ -1,6 +1,8 @@
 //! One scene of `kerf::scenes` for an instruction-count profile:
 //! `valgrind --tool=callgrind target/release/examples/scene_cost curved 0.5`
-//! (scenes: `straight`, `tilted DEG`, `curved R`, `reroll R`, `beside D_MM`, `gauge DEG R`,
+//! (scenes: `straight`, `tilted DEG`, `curved R`, `reroll R`, `beside D_MM`,
+//! `gauge DEG R [RING_STEP]` (side-face rings `RING_STEP` cells apart,
+//! `numerics.ringStepCells`; 0.5 by default),
 //! `deeper R D1 D2`: a 19 in disc's second lap of an R track, D2 deep, in
 //! the groove of a first lap D1 deep, as a head's face disc runs).
 use kerf::scenes::*;
@@ -12,7 +14,11 @@ fn main() {
         "curved" => lap_plan(1e-3, P_REF, x(1, 0.5), false),
         "beside" => beside_plan(1e-3, P_REF, x(1, 4.0) * 1e-3),
         "reroll" => lap_plan(1e-3, P_REF, x(1, 0.5), true),
-        "gauge" => gauge_plan(1e-3, P_REF, x(1, -60f64).to_radians(), x(2, 4.83)),
+        "gauge" => {
+            let mut p = gauge_plan(1e-3, P_REF, x(1, -60f64).to_radians(), x(2, 4.83));
+            p.prm.numerics.ring_step_cells = x(3, 0.5);
+            p
+        }
         "deeper" => {
             let mut c = kerf::core::Params::default().cutter;
             (c.radius, c.tip_width, c.tip_radius) = (0.2413, 0.019, 0.0127);

@@ -102,6 +102,11 @@ fn xml_start_values_equal_params_default() {
             d.numerics.arc_step_cells,
         ),
         (
+            "numerics.ringStepCells",
+            real("numerics.ringStepCells"),
+            d.numerics.ring_step_cells,
+        ),
+        (
             "numerics.elasticDepth",
             real("numerics.elasticDepth"),
             d.numerics.elastic_depth,

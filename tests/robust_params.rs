@@ -47,6 +47,12 @@ fn the_issues_parameters_are_refused_with_their_range() {
         true,
     );
     refused(
+        "ring",
+        &[R(vr::NUMERICS_RING_STEP_CELLS, 1e-3)],
+        "numerics.ringStepCells",
+        true,
+    );
+    refused(
         "radius",
         &[R(vr::CUTTER_RADIUS, 1e9)],
         "cutter.radius",

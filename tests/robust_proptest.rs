@@ -38,6 +38,7 @@ fn set(p: &mut Params, name: &str, v: f64) {
         "rock.plasticFraction" => p.rock.plastic_fraction = v,
         "numerics.tipSlices" => p.numerics.tip_slices = u(v),
         "numerics.arcStepCells" => p.numerics.arc_step_cells = v,
+        "numerics.ringStepCells" => p.numerics.ring_step_cells = v,
         "numerics.elasticDepth" => p.numerics.elastic_depth = v,
         "numerics.pReg" => p.numerics.p_reg = v,
         "numerics.sweepStep" => p.numerics.sweep_step = v,

@@ -12,7 +12,7 @@ Build the examples first, with LTO as the FMU is built:
         whole pass per step, and commit + evaluation per step (the inclusive
         cost of `disc::book_end` and `Disc::cut_at`, what a host's step pays;
         the pass also finds the contact again for the report's cutting force)
-    tools/instr_per_step.py head [--fast] [--upright | --tilted] [--split]
+    tools/instr_per_step.py head [--fast] [--upright | --tilted] [--split] [--ring-step X]
         the reference head from the steady start at 1 kHz on one thread:
         (12 steps - 2 steps) / 10; --fast at 2 mm cells and sweep steps;
         --upright / --tilted: its upright discs alone, or its tilted gauge
@@ -20,7 +20,9 @@ Build the examples first, with LTO as the FMU is built:
         --split: also the inclusive instructions a step of the contacts,
         the cuts' node walks and the cut windows (SPLIT; a part LTO inlined
         away reads "inlined": count it on a build without LTO, e.g.
-        CARGO_PROFILE_RELEASE_LTO=false CARGO_PROFILE_RELEASE_DEBUG=true)
+        CARGO_PROFILE_RELEASE_LTO=false CARGO_PROFILE_RELEASE_DEBUG=true);
+        --ring-step X: side-face rings X cells apart (numerics.ringStepCells;
+        the gauge scene takes it third: `"gauge -60 4.83 X"`)
 
 Needs valgrind (callgrind_annotate). Takes about 20 s a scene, 2 min for the
 head.
@@ -103,9 +105,11 @@ def inclusive(text, function):
     return best
 
 
-def head(fast, part=None, split=False):
+def head(fast, part=None, split=False, ring_step=None):
     binary = os.path.join(TARGET, "release", "examples", "head_cost")
     extra = ["2e-3", "2e-3"] if fast else []
+    if ring_step is not None:
+        extra = (extra or ["1e-3", "1e-3"]) + [ring_step]
     env = dict(os.environ, RAYON_NUM_THREADS="1")
     counts = {}
     parts = {}
@@ -130,6 +134,8 @@ def head(fast, part=None, split=False):
                 parts[n] = {name: inclusive(text, f) for name, f in SPLIT}
     per = (counts[12] - counts[2]) / 10
     what = f", its {part} discs alone" if part else ""
+    if ring_step is not None:
+        what += f", rings {ring_step} cells apart"
     print(f"reference head{' (fast setting)' if fast else ''}{what}: {per / 1e6:.2f} M a step")
     for name, _ in SPLIT if split else []:
         a, b = parts[2][name], parts[12][name]
@@ -145,7 +151,9 @@ def main():
         scenes(sys.argv[2:])
     elif len(sys.argv) >= 2 and sys.argv[1] == "head":
         part = next((a[2:] for a in sys.argv[2:] if a in ("--upright", "--tilted")), None)
-        head("--fast" in sys.argv[2:], part, "--split" in sys.argv[2:])
+        rest = sys.argv[2:]
+        ring = rest[rest.index("--ring-step") + 1] if "--ring-step" in rest else None
+        head("--fast" in rest, part, "--split" in rest, ring)
     else:
         sys.exit(__doc__)
 

@@ -46,6 +46,7 @@ pub const PARAMETER_BOUNDS: &[(&str, f64, f64)] = &[
     ("rock.plasticFraction", 1e-3, 1.0),
     ("numerics.tipSlices", 3.0, 101.0),
     ("numerics.arcStepCells", 0.25, 100.0),
+    ("numerics.ringStepCells", 0.01, 100.0),
     ("numerics.elasticDepth", 1e-9, 1e-3),
     ("numerics.pReg", 1e-8, 1e-2),
     ("numerics.sweepStep", 1e-6, 0.1),

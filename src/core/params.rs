@@ -123,6 +123,14 @@ pub struct Numerics {
     /// length (the arc ends are then refined by regula falsi to 1e-9 rad).
     /// Contact features narrower than this can be stepped over.
     pub arc_step_cells: f64,
+    /// Spacing of the circles sampled across a side face of a tilted disc
+    /// (its rings) and along each flank (its bands), in mesh cells: the
+    /// face's band that can reach the rock is cut into rings this far apart
+    /// (midpoint rule in the radius), at least 2 and at most
+    /// `MAX_RINGS` (24) a face. The side face is what loads a gauge
+    /// cutter's bearing sideways, and its rings are most of a gauge
+    /// cutter's contact (`examples/ring_steps` measures the trade).
+    pub ring_step_cells: f64,
     /// Thickness of the elastic layer of the rock \[m\]: the rock yields once
     /// the rim is this far inside it; after a cut the rock keeps touching the
     /// rim through this layer, which is what lets a cutter at rest carry load.
@@ -238,6 +246,7 @@ impl Default for Numerics {
         Self {
             tip_slices: 9,
             arc_step_cells: 4.0,
+            ring_step_cells: 0.5,
             elastic_depth: 2.0e-6,
             p_reg: 5.0e-5,
             sweep_step: 1.0e-3,
@@ -385,6 +394,7 @@ impl Params {
             ("rock.plasticFraction", r.plastic_fraction),
             ("numerics.tipSlices", n.tip_slices as f64),
             ("numerics.arcStepCells", n.arc_step_cells),
+            ("numerics.ringStepCells", n.ring_step_cells),
             ("numerics.elasticDepth", n.elastic_depth),
             ("numerics.pReg", n.p_reg),
             ("numerics.sweepStep", n.sweep_step),

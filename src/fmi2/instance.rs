@@ -142,6 +142,7 @@ impl Values {
             numerics: Numerics {
                 tip_slices: count("numerics.tipSlices", vr::NUMERICS_TIP_SLICES)?,
                 arc_step_cells: self.real(vr::NUMERICS_ARC_STEP_CELLS),
+                ring_step_cells: self.real(vr::NUMERICS_RING_STEP_CELLS),
                 elastic_depth: self.real(vr::NUMERICS_ELASTIC_DEPTH),
                 p_reg: self.real(vr::NUMERICS_P_REG),
                 sweep_step: self.real(vr::NUMERICS_SWEEP_STEP),

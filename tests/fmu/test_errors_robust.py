@@ -44,6 +44,7 @@ def test_refused_step_leaves_state_and_outputs_as_they_were(make):
 @pytest.mark.parametrize("name,value", [
     ("cutter.radius", 1e9),
     ("numerics.arcStepCells", 1e-9),
+    ("numerics.ringStepCells", 0.0),
     ("numerics.sweepStep", 1e-300),
     ("rock.ucs", 1e308),
     ("numerics.elasticDepth", 1e300),

@@ -46,6 +46,7 @@ PARAMETERS = {
     # are the physics core's to tune, except the direction rule (1 = kerf's)
     "numerics.tipSlices": ("parameter", "Integer", None, None),
     "numerics.arcStepCells": ("parameter", "Real", "1", None),
+    "numerics.ringStepCells": ("parameter", "Real", "1", None),
     "numerics.elasticDepth": ("parameter", "Real", "m", None),
     "numerics.pReg": ("parameter", "Real", "m", None),
     "numerics.sweepStep": ("parameter", "Real", "m", None),

@@ -22,7 +22,8 @@ pub const DRIVE_SLIVER_CELLS: f64 = 0.2;
 pub(super) const NEGLIGIBLE_WEIGHT: f64 = 1e-14;
 
 /// Most rings sampled across a tilted disc's side face (midpoint rule in
-/// the radius; each ring's arcs are exact).
+/// the radius, `numerics.ring_step_cells` apart; each ring's arcs are
+/// exact).
 pub(super) const MAX_RINGS: usize = 24;
 
 /// Most bands sampled along each flank (midpoint rule along the flank;
@@ -118,13 +119,14 @@ impl Circle {
 /// The circles of the disc's surface the query walks: the `n` rim slices,
 /// then rings on each side face (the hub faces with flanks) over the part of
 /// it that reaches below `z_top` (when `rings`: the faces carry load), then
-/// bands along the flanks, pushed onto `circles` (empty before).
+/// bands along the flanks, both about `ring_step` apart \[m\], pushed onto
+/// `circles` (empty before).
 pub(super) fn surface_circles(
     circles: &mut ArrayVec<Circle, MAX_CIRCLES>,
     disc: &PosedDisc,
     n: usize,
     z_top: f64,
-    cell: f64,
+    ring_step: f64,
     rings: bool,
 ) {
     let h = disc.half_width;
@@ -143,7 +145,7 @@ pub(super) fn surface_circles(
         let Some((r_lo, r_hi)) = face_below(disc, side, z_top).filter(|_| rings) else {
             continue;
         };
-        let nr = (((r_hi - r_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_RINGS);
+        let nr = (((r_hi - r_lo) / ring_step).ceil() as usize).clamp(2, MAX_RINGS);
         let dr = (r_hi - r_lo) / nr as f64;
         for j in 0..nr {
             circles.push(Circle {
@@ -159,7 +161,8 @@ pub(super) fn surface_circles(
     for side in [1.0f64, -1.0] {
         if let Some((s_lo, s_hi)) = flank_below(disc, side, z_top) {
             let (sn, _) = disc.flank_normal();
-            let nb = (((s_hi - s_lo) / (0.5 * cell)).ceil() as usize).clamp(2, MAX_FLANK_BANDS);
+            let nb = ((s_hi - s_lo) / ring_step).ceil() as usize;
+            let nb = nb.clamp(2, MAX_FLANK_BANDS);
             let ds = (s_hi - s_lo) / nb as f64;
             for j in 0..nb {
                 let s = s_lo + ds * (j as f64 + 0.5);

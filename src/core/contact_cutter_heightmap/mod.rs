@@ -196,9 +196,11 @@ struct Query<'a> {
     n: usize,
     h: f64,
     w_strip: f64,
-    /// The smaller side of a cell, and the larger (the look-ahead's cell).
-    cell: f64,
+    /// The larger side of a cell (the look-ahead's cell).
     look: f64,
+    /// The spacing of the side faces' rings and the flanks' bands
+    /// (`numerics.ring_step_cells` cells) \[m\].
+    ring_step: f64,
     motion: Motion,
     /// The axle's slope (world z of its unit vector).
     axle_z: f64,
@@ -326,8 +328,8 @@ impl<'a> Query<'a> {
             n,
             h,
             w_strip: 2.0 * h / n as f64,
-            cell,
             look,
+            ring_step: num.ring_step_cells * cell,
             motion,
             axle_z,
             w_face,
@@ -406,7 +408,14 @@ impl<'a> Query<'a> {
     /// from its lowest point, but the idle rings once the rim touches.
     fn walk_surface(&self, s: &mut Surface) {
         let rings = self.w_face > 0.0;
-        surface_circles(s.circles, self.disc, self.n, self.z_top, self.cell, rings);
+        surface_circles(
+            s.circles,
+            self.disc,
+            self.n,
+            self.z_top,
+            self.ring_step,
+            rings,
+        );
         s.n_main = s.nc();
         let mut rim_touches = false;
         for (ci, c) in s.circles.iter().enumerate() {

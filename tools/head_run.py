@@ -32,6 +32,9 @@ def main():
                          "docs/head.md 'Speed at 1 kHz')")
     ap.add_argument("--sweep-step", type=float, default=None,
                     help="numerics.sweepStep [m] (default: the FMU's, 1 mm)")
+    ap.add_argument("--ring-step", type=float, default=None,
+                    help="numerics.ringStepCells: the gauge discs' side-face rings, in cells apart "
+                         "(default: the FMU's, 0.5; README 'Speed and accuracy')")
     ap.add_argument("--out", default="out")
     ap.add_argument("--ucs", type=float, default=158e6)
     ap.add_argument("--bts", type=float, default=6.78e6)
@@ -63,6 +66,8 @@ def main():
     starts = {"rock.ucs": a.ucs, "rock.bts": a.bts, "csm.C": a.C, **grid}
     if a.sweep_step:
         starts["numerics.sweepStep"] = a.sweep_step
+    if a.ring_step:
+        starts["numerics.ringStepCells"] = a.ring_step
     if a.steady:
         starts["head.steadyPenetration"] = a.p_rev
     if write_face:

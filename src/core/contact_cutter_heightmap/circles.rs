@@ -161,8 +161,7 @@ pub(super) fn surface_circles(
     for side in [1.0f64, -1.0] {
         if let Some((s_lo, s_hi)) = flank_below(disc, side, z_top) {
             let (sn, _) = disc.flank_normal();
-            let nb = ((s_hi - s_lo) / ring_step).ceil() as usize;
-            let nb = nb.clamp(2, MAX_FLANK_BANDS);
+            let nb = (((s_hi - s_lo) / ring_step).ceil() as usize).clamp(2, MAX_FLANK_BANDS);
             let ds = (s_hi - s_lo) / nb as f64;
             for j in 0..nb {
                 let s = s_lo + ds * (j as f64 + 0.5);

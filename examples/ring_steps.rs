@@ -1,15 +1,14 @@
 //! The side-face rings' spacing (`numerics.ringStepCells`) against the
 //! error it makes, on the scenes where a side face carries load: gauge
 //! cutters tilted 60 and 30 degrees turning on a 4.83 m track (`cargo run
-//! --release --example ring_steps`, about a minute). Each at the default
-//! 1 mm cells with rings 0.25 to 4 cells apart: the mean cutter-frame
-//! force (normal, rolling, side) of its measured pass, and the largest
-//! difference of a force component (in % of the fresh straight cut's normal
-//! force F_N) and of a moment component (in % of F_N R) from the converged
-//! reference (0.25 mm cells, rings at the default half cell, at most 24 a
-//! face) and from the default spacing at 1 mm. The cost
-//! of each spacing: `tools/instr_per_step.py scene "gauge -60 4.83
-//! --ring-step 1"`.
+//! --release --example ring_steps`, under a second after the build). Each
+//! at the default 1 mm cells with rings 0.25 to 4 cells apart: the mean
+//! cutter-frame force (normal, rolling, side) of its measured pass, and the
+//! largest difference of a force component (in % of the fresh straight
+//! cut's normal force F_N) and of a moment component (in % of F_N R) from
+//! the converged reference (0.25 mm cells, rings at the default half cell,
+//! at most 24 a face) and from the default spacing at 1 mm. The cost of
+//! each spacing: `tools/instr_per_step.py scene "gauge -60 4.83 1"`.
 use kerf::scenes::*;
 
 fn main() {

@@ -12,7 +12,7 @@ Build the examples first, with LTO as the FMU is built:
         whole pass per step, and commit + evaluation per step (the inclusive
         cost of `disc::book_end` and `Disc::cut_at`, what a host's step pays;
         the pass also finds the contact again for the report's cutting force)
-    tools/instr_per_step.py head [--fast] [--upright | --tilted] [--split] [--ring-step X]
+    tools/instr_per_step.py head [--fast] [--upright | --tilted] [--split] [--sweep-step S] [--ring-step X]
         the reference head from the steady start at 1 kHz on one thread:
         (12 steps - 2 steps) / 10; --fast at 2 mm cells and sweep steps;
         --upright / --tilted: its upright discs alone, or its tilted gauge
@@ -21,6 +21,8 @@ Build the examples first, with LTO as the FMU is built:
         the cuts' node walks and the cut windows (SPLIT; a part LTO inlined
         away reads "inlined": count it on a build without LTO, e.g.
         CARGO_PROFILE_RELEASE_LTO=false CARGO_PROFILE_RELEASE_DEBUG=true);
+        --sweep-step S: numerics.sweepStep S [m] (the default 1e-3; --fast
+        sets 2e-3 and 2 mm cells);
         --ring-step X: side-face rings X cells apart (numerics.ringStepCells;
         the gauge scene takes it third: `"gauge -60 4.83 X"`)
 
@@ -105,11 +107,13 @@ def inclusive(text, function):
     return best
 
 
-def head(fast, part=None, split=False, ring_step=None):
+def head(fast, part=None, split=False, ring_step=None, sweep_step=None):
     binary = os.path.join(TARGET, "release", "examples", "head_cost")
     extra = ["2e-3", "2e-3"] if fast else []
-    if ring_step is not None:
-        extra = (extra or ["1e-3", "1e-3"]) + [ring_step]
+    if sweep_step is not None or ring_step is not None:
+        # head_cost's sweep step, cell and ring step, in that order
+        extra = [sweep_step or ("2e-3" if fast else "1e-3"), "2e-3" if fast else "1e-3",
+                 ring_step or "0.5"]
     env = dict(os.environ, RAYON_NUM_THREADS="1")
     counts = {}
     parts = {}
@@ -134,6 +138,8 @@ def head(fast, part=None, split=False, ring_step=None):
                 parts[n] = {name: inclusive(text, f) for name, f in SPLIT}
     per = (counts[12] - counts[2]) / 10
     what = f", its {part} discs alone" if part else ""
+    if sweep_step is not None:
+        what += f", sweep step {sweep_step} m"
     if ring_step is not None:
         what += f", rings {ring_step} cells apart"
     print(f"reference head{' (fast setting)' if fast else ''}{what}: {per / 1e6:.2f} M a step")
@@ -152,8 +158,8 @@ def main():
     elif len(sys.argv) >= 2 and sys.argv[1] == "head":
         part = next((a[2:] for a in sys.argv[2:] if a in ("--upright", "--tilted")), None)
         rest = sys.argv[2:]
-        ring = rest[rest.index("--ring-step") + 1] if "--ring-step" in rest else None
-        head("--fast" in rest, part, "--split" in rest, ring)
+        opt = lambda name: rest[rest.index(name) + 1] if name in rest else None
+        head("--fast" in rest, part, "--split" in rest, opt("--ring-step"), opt("--sweep-step"))
     else:
         sys.exit(__doc__)
 

@@ -158,7 +158,8 @@ def main():
     elif len(sys.argv) >= 2 and sys.argv[1] == "head":
         part = next((a[2:] for a in sys.argv[2:] if a in ("--upright", "--tilted")), None)
         rest = sys.argv[2:]
-        opt = lambda name: rest[rest.index(name) + 1] if name in rest else None
+        def opt(name):
+            return rest[rest.index(name) + 1] if name in rest else None
         head("--fast" in rest, part, "--split" in rest, opt("--ring-step"), opt("--sweep-step"))
     else:
         sys.exit(__doc__)

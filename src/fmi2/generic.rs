@@ -196,6 +196,8 @@ pub struct Fmi<M> {
     pub(crate) event_committed: bool,
     /// `fmi2SetContinuousStates` has warned of a host's dummy state.
     dummy_state_warned: std::cell::Cell<bool>,
+    /// An event has warned that it came before the last commit.
+    past_event_warned: bool,
     pub(crate) model: M,
 }
 
@@ -218,6 +220,7 @@ impl<M: FmuModel> Fmi<M> {
             last_commit_time: 0.0,
             event_committed: false,
             dummy_state_warned: std::cell::Cell::new(false),
+            past_event_warned: false,
             model,
         }
     }
@@ -580,6 +583,23 @@ impl<M: FmuModel> Fmi<M> {
             return Ok(());
         }
         let dt = self.time - self.last_commit_time;
+        if dt < 0.0 {
+            // An event before the last commit: PyFMI 2.21 with Assimulo's
+            // ExplicitEuler goes back to its last grid point for one more
+            // event when a state event fell just before the stop time. The
+            // rock already holds the later cut, and a negative interval has
+            // no work to book: nothing is committed (refusing it stopped the
+            // host's run).
+            if !std::mem::replace(&mut self.past_event_warned, true) {
+                self.log_warning(&format!(
+                    "{func}: an event at t = {} comes before the last commit (t = {}); \
+                     nothing is committed (the rock holds the later cut; said once)",
+                    self.time, self.last_commit_time
+                ));
+            }
+            self.event_committed = true;
+            return Ok(());
+        }
         // the commit is all or nothing: on error the instance is as it was
         let changed = self.model.commit(dt).map_err(|e| format!("{func}: {e}"))?;
         self.last_commit_time = self.time;

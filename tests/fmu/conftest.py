@@ -127,9 +127,6 @@ _CONTACT_LAW_XFAIL = {
         "tolerance (cell^2 / 8 r, 10 um at 1 mm cells): 1-10 um cuts read as re-rolls",
     "test_stepped_initial_face_from_rsf_steps_the_force_once_per_edge":
         "known gap: a step of the initial face is met by the tip slices one at a time",
-    "test_thrust_driven_cutter_settles_at_the_csm_depth[underdamped]":
-        "known gap: the held pressure level below 1 mm changes the shallow force the "
-        "thrust-driven start passes through (the critically damped runs settle)",
 }
 
 

@@ -231,11 +231,28 @@ fn main() {
 
 /// Checks modelDescription.xml (panics with a message naming the problem) and
 /// returns the generated Rust. Separate from `main` so that
-/// `tests/fmi_build_checks.rs` can feed it broken descriptions.
+/// `tests/fmi_build_checks.rs` can feed it broken descriptions. The steps
+/// run in this order, each failing on the first problem it meets.
 pub fn check_and_generate(text: &str) -> String {
     let doc = roxmltree::Document::parse(text)
         .unwrap_or_else(|e| fail(format!("not well-formed XML: {e}")));
     let md = doc.root_element();
+    let (guid, event_indicators) = check_root(md);
+    check_interfaces(md);
+    let units = read_units(md);
+    let enums = read_enums(md);
+    let categories = read_categories(md);
+    let vars = read_variables(md, &units, &enums);
+    check_unique(&vars);
+    check_contract(&vars);
+    check_bounds(&vars);
+    check_structure(md, &vars);
+    generate(guid, event_indicators, &categories, &vars, &enums)
+}
+
+/// The root element's attributes and the default experiment; returns the
+/// guid and the number of event indicators.
+fn check_root<'a>(md: roxmltree::Node<'a, '_>) -> (&'a str, &'a str) {
     if md.tag_name().name() != "fmiModelDescription" {
         fail("the root element must be <fmiModelDescription>".into());
     }
@@ -253,7 +270,7 @@ pub fn check_and_generate(text: &str) -> String {
         .filter(|g| !g.trim().is_empty())
         .unwrap_or_else(|| fail("no guid".into()));
     // One event indicator: numerics.sweepStep minus the rim travel since the
-    // last committed cut (src/fmi2/instance.rs, Instance::event_indicator).
+    // last committed cut (src/fmi2/generic.rs, Fmi::event_indicator).
     let event_indicators = md.attribute("numberOfEventIndicators").unwrap_or("0");
     if event_indicators != "1" {
         fail(format!(
@@ -267,8 +284,11 @@ pub fn check_and_generate(text: &str) -> String {
         Some(Ok(t)) if t > 0.0 && t < 1.0 => {}
         _ => fail("<DefaultExperiment> needs a tolerance in (0, 1)".into()),
     }
+    (guid, event_indicators)
+}
 
-    // Both interfaces, same identifier, the capability flags of interface.md.
+/// Both interfaces, same identifier, the capability flags of interface.md.
+fn check_interfaces(md: roxmltree::Node) {
     for tag in ["ModelExchange", "CoSimulation"] {
         let el = child(md, tag).unwrap_or_else(|| fail(format!("no <{tag}> element")));
         if el.attribute("modelIdentifier") != Some("kerf") {
@@ -299,8 +319,10 @@ pub fn check_and_generate(text: &str) -> String {
             fail("<CoSimulation> must have canHandleVariableCommunicationStepSize=\"true\"".into());
         }
     }
+}
 
-    // Units and their display units.
+/// Units and their display units.
+fn read_units(md: roxmltree::Node) -> HashMap<String, BTreeSet<String>> {
     let mut units: HashMap<String, BTreeSet<String>> = HashMap::new();
     if let Some(ud) = child(md, "UnitDefinitions") {
         for u in ud.children().filter(|n| n.has_tag_name("Unit")) {
@@ -323,8 +345,11 @@ pub fn check_and_generate(text: &str) -> String {
             }
         }
     }
+    units
+}
 
-    // Enumeration types.
+/// Enumeration types.
+fn read_enums(md: roxmltree::Node) -> HashMap<String, Vec<(String, i32)>> {
     let mut enums: HashMap<String, Vec<(String, i32)>> = HashMap::new();
     if let Some(td) = child(md, "TypeDefinitions") {
         for st in td.children().filter(|n| n.has_tag_name("SimpleType")) {
@@ -357,7 +382,11 @@ pub fn check_and_generate(text: &str) -> String {
             }
         }
     }
+    enums
+}
 
+/// The log categories, which must hold those the FMI layer logs under.
+fn read_categories(md: roxmltree::Node) -> Vec<String> {
     let categories: Vec<String> = child(md, "LogCategories")
         .map(|lc| {
             lc.children()
@@ -377,8 +406,15 @@ pub fn check_and_generate(text: &str) -> String {
             ));
         }
     }
+    categories
+}
 
-    // Variables.
+/// The variables, each checked on its own ([`check_variable`]).
+fn read_variables(
+    md: roxmltree::Node,
+    units: &HashMap<String, BTreeSet<String>>,
+    enums: &HashMap<String, Vec<(String, i32)>>,
+) -> Vec<Var> {
     let mv = child(md, "ModelVariables").unwrap_or_else(|| fail("no <ModelVariables>".into()));
     let mut vars: Vec<Var> = Vec::new();
     for (i, sv) in mv.children().filter(|n| n.is_element()).enumerate() {
@@ -426,16 +462,19 @@ pub fn check_and_generate(text: &str) -> String {
             max: ty_node.attribute("max").map(str::to_string),
             declared_type: ty_node.attribute("declaredType").map(str::to_string),
         };
-        check_variable(&var, ty_node, &units, &enums);
+        check_variable(&var, ty_node, units, enums);
         vars.push(var);
     }
+    vars
+}
 
-    // Unique names; unique value references per base type (Integer and
-    // Enumeration share fmi2GetInteger/fmi2SetInteger, so they share references).
+/// Unique names; unique value references per base type (Integer and
+/// Enumeration share fmi2GetInteger/fmi2SetInteger, so they share references).
+fn check_unique(vars: &[Var]) {
     let mut names = BTreeSet::new();
     let mut consts = BTreeSet::new();
     let mut refs: BTreeMap<(&str, u32), &str> = BTreeMap::new();
-    for v in &vars {
+    for v in vars {
         if !names.insert(v.name.as_str()) {
             fail(format!("variable name \"{}\" is declared twice", v.name));
         }
@@ -458,8 +497,10 @@ pub fn check_and_generate(text: &str) -> String {
             ));
         }
     }
+}
 
-    // The interface of interface.md, all of it.
+/// The interface of interface.md, all of it, and its fixed start values.
+fn check_contract(vars: &[Var]) {
     for (name, ty, causality, unit) in INTERFACE {
         let v = vars.iter().find(|v| v.name == *name).unwrap_or_else(|| {
             fail(format!(
@@ -494,11 +535,6 @@ pub fn check_and_generate(text: &str) -> String {
             ));
         }
     }
-
-    check_bounds(&vars);
-    check_structure(md, &vars);
-
-    generate(guid, event_indicators, &categories, &vars, &enums)
 }
 
 fn check_variable(

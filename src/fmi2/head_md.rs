@@ -10,7 +10,7 @@
 //! per disc is numbered `1_000_000 + 100 i + k` (`i` 1-based).
 
 use crate::core::head::{default_rock, place_all, DiscSpec, Drive};
-use crate::core::layout::Layout;
+use crate::core::layout::{CutterSpec, Layout};
 use crate::core::{Pose, Twist};
 
 use super::md::{self, Causality, Variability};
@@ -393,65 +393,10 @@ impl HeadVar {
 pub fn variables(layout: &Layout, drive: Drive) -> Vec<HeadVar> {
     let mut v = Vec::new();
     if drive == Drive::Head {
-        v.extend(
-            INPUTS
-                .iter()
-                .enumerate()
-                .map(|(k, (name, unit, du, what))| {
-                    HeadVar::real(
-                        *name,
-                        k as u32 + 1,
-                        Slot::HeadInput(k),
-                        Causality::Input,
-                        (unit, *du),
-                        format!("Head frame {what} (boring: z decreasing, wz > 0)"),
-                    )
-                    .start("0")
-                }),
-        );
+        v.extend(head_inputs());
     }
-    v.extend(
-        TOTALS
-            .iter()
-            .enumerate()
-            .map(|(k, (name, vr, unit, du, what))| {
-                let var = HeadVar::real(
-                    *name,
-                    *vr,
-                    Slot::Total(k),
-                    Causality::Output,
-                    (unit, *du),
-                    *what,
-                );
-                // (the totals after the forces, moments, thrust and torque:
-                // the excavation's, which change at commits only)
-                if k >= 8 {
-                    var.variability(Variability::Discrete)
-                } else {
-                    var
-                }
-            }),
-    );
-    v.push(
-        HeadVar::plain(
-            "chipCount",
-            md::vr::CHIP_COUNT,
-            Ty::Integer,
-            (Causality::Output, Variability::Discrete),
-            Slot::ChipCount,
-        )
-        .describe("chips broken out so far by all discs (committed only)"),
-    );
-    v.extend(HEAD_PARAMS.iter().enumerate().map(|(k, (vr, row))| {
-        parameter(
-            row,
-            row.0.to_string(),
-            *vr,
-            Slot::HeadParam(k),
-            row.5.to_string(),
-        )
-        .start("0")
-    }));
+    v.extend(totals());
+    v.extend(head_parameters());
     v.extend(shared_parameters(layout));
     let specs: Vec<DiscSpec> = layout.cutters.iter().map(DiscSpec::from_layout).collect();
     let rest = place_all(
@@ -460,88 +405,173 @@ pub fn variables(layout: &Layout, drive: Drive) -> Vec<HeadVar> {
         &Twist::default(),
     );
     for (i, (c, s)) in layout.cutters.iter().zip(&specs).enumerate() {
-        let n = i + 1;
-        let values = [
-            s.mount.track,
-            s.mount.angle,
-            s.mount.tilt,
-            s.mount.setback,
-            c.spacing,
-            c.disc.radius,
-            c.disc.tip_width,
-            c.disc.tip_radius,
-        ];
-        v.extend(DISC_PARAMS.iter().enumerate().map(|(k, row)| {
-            let name = format!("cutter[{n}].{}", row.0);
-            let what = format!("Disc {n}: {}", row.5);
-            parameter(
-                row,
-                name,
-                disc_vr(i, PARAM_BASE + k),
-                Slot::DiscParam(i, k),
-                what,
-            )
-            .start(fmt(values[k]))
-        }));
+        v.extend(disc_parameters(i, c, s));
         if drive == Drive::Discs {
-            let (p, _) = rest[i];
-            let start = [
-                p.position.x,
-                p.position.y,
-                p.position.z,
-                p.yaw,
-                p.pitch,
-                p.roll,
-            ];
-            v.extend(INPUTS.iter().enumerate().map(|(k, (name, unit, du, what))| {
-                let what = match k {
-                    0..=2 => format!("disc centre {what}"),
-                    3..=5 => format!("cutter frame {what}"),
-                    6..=8 => format!("disc centre {what}"),
-                    _ => format!("disc {what} (spin about the axle included)"),
-                };
-                HeadVar::real(
-                    format!("cutter[{n}].{name}"),
-                    disc_vr(i, INPUT_BASE + k),
-                    Slot::DiscInput(i, k),
-                    Causality::Input,
-                    (unit, *du),
-                    format!(
-                        "Disc {n}: {what} (kerf.fmu's meaning; start: its mount with the head at rest)"
-                    ),
-                )
-                .start(fmt(if k < 6 { start[k] } else { 0.0 }))
-            }));
+            v.extend(disc_inputs(i, &rest[i].0));
         }
-        v.extend(
-            DISC_OUTPUTS
-                .iter()
-                .enumerate()
-                .map(|(k, (name, unit, du, what))| {
-                    HeadVar::real(
-                        format!("cutter[{n}].{name}"),
-                        disc_vr(i, OUTPUT_BASE + k),
-                        Slot::DiscOutput(i, k),
-                        Causality::Output,
-                        (unit, *du),
-                        format!("Disc {n}: {what}"),
-                    )
-                }),
-        );
-        v.push(
-            HeadVar::plain(
-                format!("cutter[{n}].inContact"),
-                disc_vr(i, IN_CONTACT),
-                Ty::Boolean,
-                (Causality::Output, Variability::Discrete),
-                Slot::DiscInContact(i),
-            )
-            .describe(format!(
-                "Disc {n}: some rim point below the rock surface bears load"
-            )),
-        );
+        v.extend(disc_outputs(i));
     }
     v
+}
+
+/// The head frame's pose and velocity inputs (head drive).
+fn head_inputs() -> impl Iterator<Item = HeadVar> {
+    INPUTS
+        .iter()
+        .enumerate()
+        .map(|(k, (name, unit, du, what))| {
+            HeadVar::real(
+                *name,
+                k as u32 + 1,
+                Slot::HeadInput(k),
+                Causality::Input,
+                (unit, *du),
+                format!("Head frame {what} (boring: z decreasing, wz > 0)"),
+            )
+            .start("0")
+        })
+}
+
+/// The totals over the discs, then `chipCount`.
+fn totals() -> impl Iterator<Item = HeadVar> {
+    let totals = TOTALS
+        .iter()
+        .enumerate()
+        .map(|(k, (name, vr, unit, du, what))| {
+            let var = HeadVar::real(
+                *name,
+                *vr,
+                Slot::Total(k),
+                Causality::Output,
+                (unit, *du),
+                *what,
+            );
+            // (the totals after the forces, moments, thrust and torque:
+            // the excavation's, which change at commits only)
+            if k >= 8 {
+                var.variability(Variability::Discrete)
+            } else {
+                var
+            }
+        });
+    totals.chain(std::iter::once(
+        HeadVar::plain(
+            "chipCount",
+            md::vr::CHIP_COUNT,
+            Ty::Integer,
+            (Causality::Output, Variability::Discrete),
+            Slot::ChipCount,
+        )
+        .describe("chips broken out so far by all discs (committed only)"),
+    ))
+}
+
+/// The head's own parameters (`HEAD_PARAMS`).
+fn head_parameters() -> impl Iterator<Item = HeadVar> {
+    HEAD_PARAMS.iter().enumerate().map(|(k, (vr, row))| {
+        parameter(
+            row,
+            row.0.to_string(),
+            *vr,
+            Slot::HeadParam(k),
+            row.5.to_string(),
+        )
+        .start("0")
+    })
+}
+
+/// Disc `i`'s mount and disc parameters, starting from the layout's cutter
+/// `c` (placed as `s`).
+fn disc_parameters(i: usize, c: &CutterSpec, s: &DiscSpec) -> impl Iterator<Item = HeadVar> {
+    let n = i + 1;
+    let values = [
+        s.mount.track,
+        s.mount.angle,
+        s.mount.tilt,
+        s.mount.setback,
+        c.spacing,
+        c.disc.radius,
+        c.disc.tip_width,
+        c.disc.tip_radius,
+    ];
+    DISC_PARAMS.iter().enumerate().map(move |(k, row)| {
+        let name = format!("cutter[{n}].{}", row.0);
+        let what = format!("Disc {n}: {}", row.5);
+        parameter(
+            row,
+            name,
+            disc_vr(i, PARAM_BASE + k),
+            Slot::DiscParam(i, k),
+            what,
+        )
+        .start(fmt(values[k]))
+    })
+}
+
+/// Disc `i`'s pose and velocity inputs (disc drive), starting from its pose
+/// `p` on its mount with the head at rest.
+fn disc_inputs(i: usize, p: &Pose) -> impl Iterator<Item = HeadVar> {
+    let n = i + 1;
+    let start = [
+        p.position.x,
+        p.position.y,
+        p.position.z,
+        p.yaw,
+        p.pitch,
+        p.roll,
+    ];
+    INPUTS
+        .iter()
+        .enumerate()
+        .map(move |(k, (name, unit, du, what))| {
+            let what = match k {
+                0..=2 => format!("disc centre {what}"),
+                3..=5 => format!("cutter frame {what}"),
+                6..=8 => format!("disc centre {what}"),
+                _ => format!("disc {what} (spin about the axle included)"),
+            };
+            HeadVar::real(
+                format!("cutter[{n}].{name}"),
+                disc_vr(i, INPUT_BASE + k),
+                Slot::DiscInput(i, k),
+                Causality::Input,
+                (unit, *du),
+                format!(
+                    "Disc {n}: {what} (kerf.fmu's meaning; start: its mount with the head at rest)"
+                ),
+            )
+            .start(fmt(if k < 6 { start[k] } else { 0.0 }))
+        })
+}
+
+/// Disc `i`'s outputs, then its `inContact`.
+fn disc_outputs(i: usize) -> impl Iterator<Item = HeadVar> {
+    let n = i + 1;
+    let outputs = DISC_OUTPUTS
+        .iter()
+        .enumerate()
+        .map(move |(k, (name, unit, du, what))| {
+            HeadVar::real(
+                format!("cutter[{n}].{name}"),
+                disc_vr(i, OUTPUT_BASE + k),
+                Slot::DiscOutput(i, k),
+                Causality::Output,
+                (unit, *du),
+                format!("Disc {n}: {what}"),
+            )
+        });
+    outputs.chain(std::iter::once(
+        HeadVar::plain(
+            format!("cutter[{n}].inContact"),
+            disc_vr(i, IN_CONTACT),
+            Ty::Boolean,
+            (Causality::Output, Variability::Discrete),
+            Slot::DiscInContact(i),
+        )
+        .describe(format!(
+            "Disc {n}: some rim point below the rock surface bears load"
+        )),
+    ))
 }
 
 /// A fixed Real parameter of `row` (name, unit, display unit, min, max,

@@ -809,19 +809,6 @@ fn generate(
     )
     .unwrap();
 
-    let by_type = |ty: &[&str]| {
-        let mut v: Vec<&Var> = vars
-            .iter()
-            .filter(|v| ty.contains(&v.ty.as_str()))
-            .collect();
-        v.sort_by_key(|v| v.vr);
-        v
-    };
-    let reals = by_type(&["Real"]);
-    let ints = by_type(&["Integer", "Enumeration"]);
-    let bools = by_type(&["Boolean"]);
-    let strings = by_type(&["String"]);
-
     writeln!(
         w,
         "/// Value references, one constant per variable (name in SCREAMING_SNAKE_CASE)."
@@ -834,98 +821,100 @@ fn generate(
     }
     writeln!(w, "}}").unwrap();
 
-    writeln!(w, "/// Real variables, sorted by value reference.").unwrap();
-    writeln!(w, "pub static REALS: &[RealVar] = &[").unwrap();
-    for v in &reals {
-        let start = v.start.as_deref().map(|x| parse_f64(&v.name, x));
-        writeln!(
-            w,
-            "    RealVar {{ name: {}, vr: {}, index: {}, causality: {}, variability: {}, start: {}, unit: {} }},",
-            rust_str(&v.name),
-            v.vr,
-            v.index,
-            causality_ident(&v.causality),
-            variability_ident(&v.variability),
-            match start {
-                Some(x) => format!("Some(f64::from_bits({:#018x}))", x.to_bits()),
-                None => "None".into(),
-            },
-            rust_str(v.unit.as_deref().unwrap_or("")),
-        )
-        .unwrap();
-    }
-    writeln!(w, "];").unwrap();
-
-    writeln!(
+    write_table(
         w,
-        "/// Integer and Enumeration variables, sorted by value reference."
-    )
-    .unwrap();
-    writeln!(w, "pub static INTEGERS: &[IntegerVar] = &[").unwrap();
-    for v in &ints {
-        let start = v.start.as_deref().map(|x| parse_i32(&v.name, x));
-        let items = match v.declared_type.as_deref().and_then(|t| enums.get(t)) {
-            Some(items) if v.ty == "Enumeration" => format!(
-                "Some(&[{}])",
-                items
-                    .iter()
-                    .map(|(_, x)| x.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-            _ => "None".into(),
-        };
-        writeln!(
-            w,
-            "    IntegerVar {{ name: {}, vr: {}, index: {}, causality: {}, variability: {}, start: {:?}, items: {} }},",
-            rust_str(&v.name),
-            v.vr,
-            v.index,
-            causality_ident(&v.causality),
-            variability_ident(&v.variability),
-            start,
-            items
-        )
-        .unwrap();
-    }
-    writeln!(w, "];").unwrap();
-
-    writeln!(w, "/// Boolean variables, sorted by value reference.").unwrap();
-    writeln!(w, "pub static BOOLEANS: &[BooleanVar] = &[").unwrap();
-    for v in &bools {
-        let start = v.start.as_deref().map(|x| x == "true");
-        writeln!(
-            w,
-            "    BooleanVar {{ name: {}, vr: {}, index: {}, causality: {}, variability: {}, start: {:?} }},",
-            rust_str(&v.name),
-            v.vr,
-            v.index,
-            causality_ident(&v.causality),
-            variability_ident(&v.variability),
-            start
-        )
-        .unwrap();
-    }
-    writeln!(w, "];").unwrap();
-
-    writeln!(w, "/// String variables, sorted by value reference.").unwrap();
-    writeln!(w, "pub static STRINGS: &[StringVar] = &[").unwrap();
-    for v in &strings {
-        writeln!(
-            w,
-            "    StringVar {{ name: {}, vr: {}, index: {}, causality: {}, variability: {}, start: {} }},",
-            rust_str(&v.name),
-            v.vr,
-            v.index,
-            causality_ident(&v.causality),
-            variability_ident(&v.variability),
-            match v.start.as_deref() {
+        vars,
+        &["Real"],
+        ("Real variables", "REALS", "RealVar"),
+        &|v| {
+            let start = v.start.as_deref().map(|x| parse_f64(&v.name, x));
+            format!(
+                "start: {}, unit: {}",
+                match start {
+                    Some(x) => format!("Some(f64::from_bits({:#018x}))", x.to_bits()),
+                    None => "None".into(),
+                },
+                rust_str(v.unit.as_deref().unwrap_or("")),
+            )
+        },
+    );
+    write_table(
+        w,
+        vars,
+        &["Integer", "Enumeration"],
+        (
+            "Integer and Enumeration variables",
+            "INTEGERS",
+            "IntegerVar",
+        ),
+        &|v| {
+            let start = v.start.as_deref().map(|x| parse_i32(&v.name, x));
+            let items = match v.declared_type.as_deref().and_then(|t| enums.get(t)) {
+                Some(items) if v.ty == "Enumeration" => format!(
+                    "Some(&[{}])",
+                    items
+                        .iter()
+                        .map(|(_, x)| x.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+                _ => "None".into(),
+            };
+            format!("start: {start:?}, items: {items}")
+        },
+    );
+    write_table(
+        w,
+        vars,
+        &["Boolean"],
+        ("Boolean variables", "BOOLEANS", "BooleanVar"),
+        &|v| format!("start: {:?}", v.start.as_deref().map(|x| x == "true")),
+    );
+    write_table(
+        w,
+        vars,
+        &["String"],
+        ("String variables", "STRINGS", "StringVar"),
+        &|v| {
+            let start = match v.start.as_deref() {
                 Some(x) => format!("Some({})", rust_str(x)),
                 None => "None".into(),
-            }
+            };
+            format!("start: {start}")
+        },
+    );
+    s
+}
+
+/// One table of the generated code: the variables of `types`, sorted by
+/// value reference, as `ty` rows (name, value reference, index, causality,
+/// variability, then `rest`) of the static `name`, documented `doc`.
+fn write_table(
+    w: &mut String,
+    vars: &[Var],
+    types: &[&str],
+    (doc, name, ty): (&str, &str, &str),
+    rest: &dyn Fn(&Var) -> String,
+) {
+    let mut rows: Vec<&Var> = vars
+        .iter()
+        .filter(|v| types.contains(&v.ty.as_str()))
+        .collect();
+    rows.sort_by_key(|v| v.vr);
+    writeln!(w, "/// {doc}, sorted by value reference.").unwrap();
+    writeln!(w, "pub static {name}: &[{ty}] = &[").unwrap();
+    for v in rows {
+        writeln!(
+            w,
+            "    {ty} {{ name: {}, vr: {}, index: {}, causality: {}, variability: {}, {} }},",
+            rust_str(&v.name),
+            v.vr,
+            v.index,
+            causality_ident(&v.causality),
+            variability_ident(&v.variability),
+            rest(v),
         )
         .unwrap();
     }
     writeln!(w, "];").unwrap();
-    s
 }

@@ -595,42 +595,9 @@ fn check_variable(
                     ));
                 }
             }
-            let min = v
-                .min
-                .as_deref()
-                .map(|s| parse_f64(&format!("{name} min"), s));
-            let max = v
-                .max
-                .as_deref()
-                .map(|s| parse_f64(&format!("{name} max"), s));
-            if let (Some(lo), Some(hi)) = (min, max) {
-                if lo > hi {
-                    fail(format!("{name}: min {lo} > max {hi}"));
-                }
-            }
-            if let Some(s) = v.start.as_deref() {
-                let s = parse_f64(&format!("{name} start"), s);
-                if min.is_some_and(|lo| s < lo) || max.is_some_and(|hi| s > hi) {
-                    fail(format!("{name}: start {s} outside [{min:?}, {max:?}]"));
-                }
-            }
+            check_range(v, parse_f64);
         }
-        "Integer" => {
-            let min = v
-                .min
-                .as_deref()
-                .map(|s| parse_i32(&format!("{name} min"), s));
-            let max = v
-                .max
-                .as_deref()
-                .map(|s| parse_i32(&format!("{name} max"), s));
-            if let Some(s) = v.start.as_deref() {
-                let s = parse_i32(&format!("{name} start"), s);
-                if min.is_some_and(|lo| s < lo) || max.is_some_and(|hi| s > hi) {
-                    fail(format!("{name}: start {s} outside [{min:?}, {max:?}]"));
-                }
-            }
-        }
+        "Integer" => check_range(v, parse_i32),
         "Enumeration" => {
             let t = v
                 .declared_type
@@ -664,6 +631,28 @@ fn check_variable(
     }
     if v.ty != "Real" && v.unit.is_some() {
         fail(format!("{name}: only Real variables carry a unit here"));
+    }
+}
+
+/// A Real's or an Integer's `min`, `max` and `start`, read by `parse`:
+/// `min <= max`, and the start between them.
+fn check_range<T: PartialOrd + std::fmt::Debug + std::fmt::Display>(
+    v: &Var,
+    parse: fn(&str, &str) -> T,
+) {
+    let name = &v.name;
+    let min = v.min.as_deref().map(|s| parse(&format!("{name} min"), s));
+    let max = v.max.as_deref().map(|s| parse(&format!("{name} max"), s));
+    if let (Some(lo), Some(hi)) = (&min, &max) {
+        if lo > hi {
+            fail(format!("{name}: min {lo} > max {hi}"));
+        }
+    }
+    if let Some(s) = v.start.as_deref() {
+        let s = parse(&format!("{name} start"), s);
+        if min.as_ref().is_some_and(|lo| s < *lo) || max.as_ref().is_some_and(|hi| s > *hi) {
+            fail(format!("{name}: start {s} outside [{min:?}, {max:?}]"));
+        }
     }
 }
 

@@ -237,3 +237,31 @@ fn event_indicator_count_and_default_experiment_tolerance() {
     let code = build_script::check_and_generate(XML);
     assert!(code.contains("pub const NUMBER_OF_EVENT_INDICATORS: usize = 1;"));
 }
+
+#[test]
+fn a_start_outside_its_range_and_a_range_upside_down() {
+    let radius = r#"<Real unit="m" displayUnit="mm" min="0.02" max="2" start="0.2159"/>"#;
+    fails_with(
+        &edit(
+            radius,
+            r#"<Real unit="m" displayUnit="mm" min="0.02" max="2" start="3"/>"#,
+        ),
+        "cutter.radius: start 3 outside [Some(0.02), Some(2.0)]",
+    );
+    fails_with(
+        &edit(
+            radius,
+            r#"<Real unit="m" displayUnit="mm" min="2" max="0.02" start="0.2159"/>"#,
+        ),
+        "cutter.radius: min 2 > max 0.02",
+    );
+    let nx = r#"<Integer min="2" max="100000000" start="1501"/>"#;
+    fails_with(
+        &edit(nx, r#"<Integer min="2" max="100000000" start="1"/>"#),
+        "rock.nx: start 1 outside [Some(2), Some(100000000)]",
+    );
+    fails_with(
+        &edit(nx, r#"<Integer min="100000000" max="2" start="1501"/>"#),
+        "rock.nx: min 100000000 > max 2",
+    );
+}

@@ -558,12 +558,6 @@ pub fn commit_paths(
             })
         })
         .collect();
-    check_sub_steps(
-        &counts,
-        params,
-        "the event's paths since the last commit",
-        dt,
-    )?;
     let at = |k: usize, n: usize| -> Result<Vec<(Pose, Twist)>> {
         Ok(plans
             .iter()
@@ -571,9 +565,8 @@ pub fn commit_paths(
             .map(|(plan, (pose, twist))| (along_path(plan, pose, k, n), *twist))
             .collect())
     };
-    let groups = time_groups(&counts);
     let what = "the event's paths since the last commit";
-    check_call(&face.map, discs, &groups, at, what, dt)?;
+    let groups = cut_times(&face.map, discs, &counts, params, at, (what, dt))?;
     // nothing fails from here on: the commit is all or nothing
     commit_checked(face, discs, states, motions, dt, params, &groups, at)
 }
@@ -642,6 +635,25 @@ pub(crate) fn energy_over(p0: Option<f64>, p1: f64, dt: f64) -> f64 {
         Some(p0) => 0.5 * (p0 + p1) * dt,
         None => p1 * dt,
     }
+}
+
+/// The checks of a commit or a step, before anything changes: the sub-steps
+/// each disc would take (`counts`, [`check_sub_steps`]) and the work of the
+/// whole call (`at(k, n)` every disc's pose and twist at time `k / n`,
+/// [`check_call`]); returns the cut times ([`time_groups`]). `what` and
+/// `span` (its duration) name the call in a refusal.
+fn cut_times(
+    map: &HeightMap,
+    discs: &[Disc],
+    counts: &[usize],
+    params: &Params,
+    at: impl FnMut(usize, usize) -> Result<Vec<(Pose, Twist)>>,
+    (what, span): (&str, f64),
+) -> Result<Vec<(usize, usize, Vec<usize>)>> {
+    check_sub_steps(counts, params, what, span)?;
+    let groups = time_groups(counts);
+    check_call(map, discs, &groups, at, what, span)?;
+    Ok(groups)
 }
 
 /// Refuses, before anything changes, a call in which some disc would take
@@ -775,10 +787,8 @@ pub fn sweep(
     counts: &[usize],
     path: impl Fn(f64) -> Result<Vec<(Pose, Twist)>>,
 ) -> Result<Vec<(Pose, Twist)>> {
-    check_sub_steps(counts, params, "the step", h)?;
-    let groups = time_groups(counts);
     let at = |k: usize, n: usize| path(h * k as f64 / n as f64);
-    check_call(&face.map, discs, &groups, at, "the step", h)?;
+    let groups = cut_times(&face.map, discs, counts, params, at, ("the step", h))?;
     // nothing fails from here on: the step is all or nothing
     sweep_checked(face, discs, states, params, start, h, &groups, path)
 }

@@ -131,17 +131,7 @@ pub(crate) mod blob {
         match s.last_cut {
             Some(p) => {
                 v.push(1);
-                f64s(
-                    v,
-                    &[
-                        p.position.x,
-                        p.position.y,
-                        p.position.z,
-                        p.yaw,
-                        p.pitch,
-                        p.roll,
-                    ],
-                );
+                f64s(v, &p.to_array());
             }
             None => v.push(0),
         }

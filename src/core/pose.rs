@@ -74,6 +74,19 @@ impl Pose {
         }
     }
 
+    /// The pose's six numbers in the order of [`Pose::new`] and of the pose
+    /// inputs: position, then yaw, pitch, roll.
+    pub fn to_array(&self) -> [f64; 6] {
+        [
+            self.position.x,
+            self.position.y,
+            self.position.z,
+            self.yaw,
+            self.pitch,
+            self.roll,
+        ]
+    }
+
     /// Rotation mapping cutter-frame vectors into the rock frame.
     /// nalgebra's `from_euler_angles(roll, pitch, yaw)` is exactly
     /// `Rz(yaw) * Ry(pitch) * Rx(roll)` (tested in `tests`).

@@ -19,7 +19,7 @@ use super::head_md::{self, HeadVar, Slot, Ty};
 use super::instance::{Files, Kind, Mode, Res, Values};
 use super::log::Logger;
 use super::md::{self, vr};
-use super::state::{frame, pose_words, put_header, read_header, unframe, Reader};
+use super::state::{frame, put_header, read_header, unframe, Reader};
 
 /// Values of everything settable: kerf's table for the shared parameters,
 /// the head inputs, the per-disc parameters and inputs.
@@ -619,7 +619,7 @@ impl FmuModel for HeadModel {
             a.iter().chain(b.iter()).for_each(|&x| put_f(&mut p, x));
         }
         for q in std::iter::once(&s.model.cs_head).chain(&s.model.cs_discs) {
-            for x in pose_words(q) {
+            for x in q.to_array() {
                 put_f(&mut p, x);
             }
         }

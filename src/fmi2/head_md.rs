@@ -512,14 +512,7 @@ fn disc_parameters(i: usize, c: &CutterSpec, s: &DiscSpec) -> impl Iterator<Item
 /// `p` on its mount with the head at rest.
 fn disc_inputs(i: usize, p: &Pose) -> impl Iterator<Item = HeadVar> {
     let n = i + 1;
-    let start = [
-        p.position.x,
-        p.position.y,
-        p.position.z,
-        p.yaw,
-        p.pitch,
-        p.roll,
-    ];
+    let start = p.to_array();
     INPUTS
         .iter()
         .enumerate()

@@ -44,7 +44,7 @@ pub fn encode(s: &Snapshot) -> Vec<u8> {
     put_bytes(&mut p, md::GUID.as_bytes());
     put_header(&mut p, &s.header);
     p.push(u8::from(s.model.pose_inputs_set));
-    for v in pose_words(&s.model.cs_pose) {
+    for v in s.model.cs_pose.to_array() {
         p.extend_from_slice(&v.to_le_bytes());
     }
     put_u32(&mut p, s.model.values.real.len());
@@ -82,18 +82,6 @@ pub fn encode(s: &Snapshot) -> Vec<u8> {
     }
 
     frame(MAGIC, VERSION, &p)
-}
-
-/// A pose as the states write it: position, then yaw, pitch, roll.
-pub fn pose_words(q: &Pose) -> [f64; 6] {
-    [
-        q.position.x,
-        q.position.y,
-        q.position.z,
-        q.yaw,
-        q.pitch,
-        q.roll,
-    ]
 }
 
 /// The instance's part of a state (after the GUID): interface type, mode,

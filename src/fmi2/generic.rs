@@ -585,8 +585,8 @@ impl<M: FmuModel> Fmi<M> {
         let dt = self.time - self.last_commit_time;
         if dt < 0.0 {
             // An event before the last commit: PyFMI 2.21 with Assimulo's
-            // ExplicitEuler goes back to its last grid point for one more
-            // event when a state event fell just before the stop time. The
+            // ExplicitEuler, when a state event fell just before the stop
+            // time, goes back to the event before for one more (H6). The
             // rock already holds the later cut, and a negative interval has
             // no work to book: nothing is committed (refusing it stopped the
             // host's run).

@@ -89,3 +89,43 @@ def test_pyfmi_like_cvode_makes_one_event_per_sweep_step_not_per_internal_step(f
     assert r["rollingForce"] == pytest.approx(reference["rollingForce"][-1], rel=5e-3)
     assert r["excavatedVolume"] == pytest.approx(reference["excavatedVolume"][-1], rel=1e-6)
     assert r["cuttingEnergy"] == pytest.approx(reference["cuttingEnergy"][-1], rel=1e-6)
+
+
+def test_an_event_back_in_time_commits_nothing_and_the_roll_goes_on(fmu):
+    """A host that goes back in time for one more event (PyFMI 2.21's
+    ExplicitEuler, near its stop time: host bug H6, docs/hosts.md) gets
+    fmi2OK, one warning and no cut; the next event forward cuts and books
+    what a host that never went back gets."""
+    R = kh.REFERENCE["R"]
+
+    def roll(name, back):
+        inst = fmu.instance("ME", name=name)
+        try:
+            inst.initialize({}, inputs={"vx": 1.0, "wy": 1.0 / R})
+            f = inst.f
+
+            def event_at(t):
+                f.setTime(t)
+                inst.set_reals(["x"], [t])
+                f.enterEventMode()
+                inst.event_iteration()
+                f.enterContinuousTimeMode()
+
+            for k in (1, 2, 3):
+                event_at(k * 1e-3)
+            if back:
+                v, e = inst.get_reals(["excavatedVolume", "cuttingEnergy"])
+                for t in (2e-3, 2.5e-3):
+                    event_at(t)
+                    assert list(inst.get_reals(["excavatedVolume", "cuttingEnergy"])) == [v, e]
+                warnings = [r.message for r in inst.log if r.status == 1]  # fmi2Warning
+                assert len(warnings) == 1 and "before the last commit" in warnings[0], warnings
+                assert not inst.errors(), inst.errors()
+            event_at(4e-3)
+            return list(inst.get_reals(["excavatedVolume", "cuttingEnergy"]))
+        finally:
+            inst.free()
+
+    straight = roll("me-back-no", back=False)
+    assert straight[0] > 0 and straight[1] > 0
+    assert roll("me-back-yes", back=True) == straight

@@ -146,7 +146,10 @@ impl RimCircle {
 /// knows which nodes a cut lowered; a walk inside an older groove (the cell
 /// ahead all cut) does not borrow that groove's uncut wall. Walks with
 /// `tx^2 + ty^2 <= tiny` (vertical) do not look ahead.
-#[inline]
+///
+/// (Inside the rock, most of a march's samples, it is one height read,
+/// inlined into the walks; the look-ahead is a call of its own.)
+#[inline(always)]
 pub fn rock_over(
     map: &HeightMap,
     p: &Vector3<f64>,
@@ -160,9 +163,24 @@ pub fn rock_over(
         // inside the rock already: the look-ahead cannot change the sign
         return (here, here);
     }
+    (here, rock_ahead_of(map, p, (tx, ty), tiny, look, here))
+}
+
+/// [`rock_over`]'s look-ahead from a point `here` out of the rock: the
+/// larger of `here` and the rock one `look` along `(tx, ty)` (or beside
+/// it, where no node was cut).
+#[inline(never)]
+fn rock_ahead_of(
+    map: &HeightMap,
+    p: &Vector3<f64>,
+    (tx, ty): (f64, f64),
+    tiny: f64,
+    look: f64,
+    here: f64,
+) -> f64 {
     let n2 = tx * tx + ty * ty;
     if n2 <= tiny {
-        return (here, here);
+        return here;
     }
     let k = look / n2.sqrt();
     let (ax, ay) = (k * tx, k * ty);
@@ -174,7 +192,7 @@ pub fn rock_over(
             }
         }
     }
-    (here, here.max(z - p.z))
+    here.max(z - p.z)
 }
 
 /// Refines a sign change of `f` between `t_in` (f > 0) and `t_out` (f <= 0)

@@ -164,7 +164,7 @@ pub fn contact(
     q.walk_surface(&mut s);
     q.engage_strips(&mut s);
     let refine = q.refinement(&mut s);
-    let mut slice_arcs = [[None::<Finished>; 2]; 101];
+    let mut slice_arcs = ArrayVec::new();
     q.finish_slices(&mut s, &refine, &mut slice_arcs);
     let Some(sums) = q.loads(&s, &refine, &slice_arcs) else {
         return none;
@@ -445,7 +445,9 @@ impl<'a> Query<'a> {
         let (disc, map, z_top, walk) = (self.disc, self.map, self.z_top, self.walk);
         let (h, n, w_strip) = (self.h, self.n, self.w_strip);
         let m = self.motion.moving;
-        let (engaged, split) = if m > 0.0 {
+        let mut engaged: ArrayVec<Option<(f64, f64)>, 101> = (0..n).map(|_| None).collect();
+        let mut split: ArrayVec<bool, 101> = (0..n).map(|_| false).collect();
+        if m > 0.0 {
             engaged_strips(
                 h,
                 n,
@@ -461,11 +463,11 @@ impl<'a> Query<'a> {
                         map.any_uncut(p.x, p.y)
                     })
                 },
-            )
-        } else {
-            ([None; 101], [false; 101])
-        };
-        for (k, e) in engaged.iter().enumerate().take(n) {
+                &mut engaged,
+                &mut split,
+            );
+        }
+        for (k, e) in engaged.iter().enumerate() {
             if let Some((y, width)) = *e {
                 let yk = slice_y(h, n, k);
                 let (y, width) = if s.touches(k) {
@@ -485,7 +487,7 @@ impl<'a> Query<'a> {
         }
         let sm = m * smoothstep(self.axle_z.abs() / SPLIT_TILT);
         // (the samples of split strips follow the other circles)
-        for (k, &sp) in split.iter().enumerate().take(n) {
+        for (k, &sp) in split.iter().enumerate() {
             if sm <= 0.0 || !sp || s.nc() + 2 > s.n_main + MAX_SUB {
                 continue;
             }
@@ -559,11 +561,13 @@ impl<'a> Query<'a> {
         &self,
         s: &mut Surface,
         r: &Refinement,
-        slice_arcs: &mut [[Option<Finished>; 2]; 101],
+        slice_arcs: &mut ArrayVec<[Option<Finished>; 2], 101>,
     ) {
         let (n, h, disc) = (self.n, self.h, self.disc);
-        for (k, a) in slice_arcs.iter_mut().enumerate().take(n) {
-            self.finish_pair(r, &s.walks[k], s.drives[k], a);
+        for k in 0..n {
+            let mut a = [None, None];
+            self.finish_pair(r, &s.walks[k], s.drives[k], &mut a);
+            slice_arcs.push(a);
         }
         let m = self.motion.moving;
         if m <= 0.0 || n < 3 {
@@ -571,13 +575,14 @@ impl<'a> Query<'a> {
         }
         // each slice's deepest loaded arc, found once (the strips split
         // below add circles, not slices)
-        let mut depths = [0.0f64; 101];
-        for (k, dk) in depths.iter_mut().enumerate().take(n) {
-            *dk = (0..2)
-                .filter(|&side| s.drives[k][side])
-                .filter_map(|side| slice_arcs[k][side].map(|(a, _)| a.depth))
-                .fold(0.0, f64::max);
-        }
+        let depths: ArrayVec<f64, 101> = (0..n)
+            .map(|k| {
+                (0..2)
+                    .filter(|&side| s.drives[k][side])
+                    .filter_map(|side| slice_arcs[k][side].map(|(a, _)| a.depth))
+                    .fold(0.0, f64::max)
+            })
+            .collect();
         let d = |k: usize| depths[k];
         let profile = |k: usize| disc.radius - disc.rho(slice_y(h, n, k));
         for k in 1..n - 1 {
@@ -603,7 +608,7 @@ impl<'a> Query<'a> {
         &self,
         s: &Surface,
         r: &Refinement,
-        slice_arcs: &[[Option<Finished>; 2]; 101],
+        slice_arcs: &[[Option<Finished>; 2]],
     ) -> Option<Sums> {
         let (map, disc, motion) = (self.map, self.disc, &self.motion);
         let (n, n_main) = (self.n, s.n_main);
@@ -701,7 +706,7 @@ impl<'a> Query<'a> {
     fn slip(
         &self,
         s: &Surface,
-        slice_arcs: &[[Option<Finished>; 2]; 101],
+        slice_arcs: &[[Option<Finished>; 2]],
         sums: &Sums,
         kg: usize,
         weights: (f64, f64),

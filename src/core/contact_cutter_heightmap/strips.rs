@@ -69,9 +69,11 @@ pub(super) fn split_in_thirds(
     }
 }
 
-/// The rim slices that touch the rock over part of their strip only:
-/// `Some((y, width))`, the middle and width of the touching part (width 0:
-/// none); `None`, the slice as it is.
+/// The rim slices that touch the rock over part of their strip only, into
+/// `out` (one entry a slice, `None` on entry): `Some((y, width))`, the
+/// middle and width of the touching part (width 0: none); `None`, the slice
+/// as it is. `split` (`false` on entry) marks the strips to integrate in
+/// thirds, where an edge is free (below).
 ///
 /// Whether a circle touches the rock is a yes/no reading of the height map
 /// (the rim inside the interpolated rock by micrometres). Where the wall of
@@ -98,9 +100,9 @@ pub(super) fn engaged_strips(
     touches_slice: impl Fn(usize) -> bool,
     touches: impl Fn(f64) -> bool,
     free: impl Fn(f64) -> bool,
-) -> ([Option<(f64, f64)>; 101], [bool; 101]) {
-    let mut out = [None; 101];
-    let mut split = [false; 101];
+    out: &mut [Option<(f64, f64)>],
+    split: &mut [bool],
+) {
     let w = 2.0 * h / n as f64;
     // strip boundaries: b(k) is the lower edge of strip k, b(n) = h
     let b = |k: usize| {
@@ -114,19 +116,17 @@ pub(super) fn engaged_strips(
     };
     // the samples across the tip with their answers: the edges and the
     // slices; sample i + 1 is slice i
-    let mut pts = [(0.0f64, false); 103];
-    for k in 0..n {
-        pts[k + 1] = (slice_y(h, n, k), touches_slice(k));
-    }
-    pts[0] = (-h, touches(-h));
-    pts[n + 1] = (h, touches(h));
-    let pts = &pts[..n + 2];
+    // (arrays sized by `n`, not by the 101 slices at most: filling and
+    // returning those evicted a straight cut's contact from the L1 cache)
+    let mut pts = ArrayVec::<(f64, bool), 103>::new();
+    pts.push((-h, touches(-h)));
+    pts.extend((0..n).map(|k| (slice_y(h, n, k), touches_slice(k))));
+    pts.push((h, touches(h)));
     if pts.iter().all(|p| p.1) {
-        return (out, split);
+        return;
     }
     // the touching spans across the tip
-    let mut spans = [(0.0f64, 0.0f64); 52];
-    let mut ns = 0;
+    let mut spans = ArrayVec::<(f64, f64), 52>::new();
     let mut open: Option<f64> = pts[0].1.then_some(-h);
     for i in 0..n + 1 {
         let ((ya, ta), (yb, tb)) = (pts[i], pts[i + 1]);
@@ -153,29 +153,23 @@ pub(super) fn engaged_strips(
         let edge = edge.unwrap_or(0.5 * (lo + hi));
         if ta {
             if let Some(s) = open.take() {
-                if ns < spans.len() {
-                    spans[ns] = (s, edge);
-                    ns += 1;
-                }
+                // (spans past the 52nd are left out)
+                let _ = spans.try_push((s, edge));
             }
         } else {
             open = Some(edge);
         }
     }
     if let Some(s) = open {
-        if ns < spans.len() {
-            spans[ns] = (s, h);
-            ns += 1;
-        }
+        let _ = spans.try_push((s, h));
     }
-    let spans = &spans[..ns];
     for (k, o) in out.iter_mut().enumerate().take(n) {
         let (lo, hi) = (b(k), b(k + 1));
         if spans.iter().any(|&(s, e)| s <= lo && e >= hi) {
             continue;
         }
         let (mut total, mut best) = (0.0f64, (0.0f64, 0.0f64));
-        for &(s, e) in spans {
+        for &(s, e) in &spans {
             let (s, e) = (s.max(lo), e.min(hi));
             if e > s {
                 total += e - s;
@@ -193,5 +187,4 @@ pub(super) fn engaged_strips(
             *sp = false;
         }
     }
-    (out, split)
 }

@@ -26,8 +26,17 @@ Build the examples first, with LTO as the FMU is built:
         --ring-step X: side-face rings X cells apart (numerics.ringStepCells;
         the gauge scene takes it third: `"gauge -60 4.83 X"`)
 
+    --cache (with scene or head, before the other arguments): callgrind's
+        cache and branch simulation as well (32 kB L1 for code and data, as
+        this machine's AMD EPYC has, and its 512 kB L2 as the last level),
+        with the misses a step: L1 code, L1 data read and write, L2 data
+        read and write, and mispredicted branches; for the head also the
+        five functions with the most L2 data read misses. A model of the
+        caches, not the machine: where wall time goes that instruction
+        counts cannot see (docs/speed-log.md, "Caches, measured").
+
 Needs valgrind (callgrind_annotate). Takes about 20 s a scene, 2 min for the
-head.
+head (--cache: some 1 and 20 min).
 """
 import json
 import os
@@ -41,8 +50,20 @@ TARGET = os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target"))
 STEPS = 150
 
 
+# callgrind's cache and branch simulation (`--cache`): L1 code and data
+# 32 kB, 8-way, and the 512 kB L2 of one core as the last level
+CACHE_SIM = ["--cache-sim=yes", "--branch-sim=yes", "--I1=32768,8,64",
+             "--D1=32768,8,64", "--LL=524288,8,64"]
+# the misses `--cache` prints: (callgrind event, what it is)
+MISSES = [("I1mr", "L1 code"), ("D1mr", "L1 read"), ("D1mw", "L1 write"),
+          ("DLmr", "L2 read"), ("DLmw", "L2 write"), ("Bcm", "branches mispredicted")]
+cache = False
+
+
 def callgrind(args, out, toggle=None, env=None):
     cmd = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}"]
+    if cache:
+        cmd += CACHE_SIM
     if toggle:
         cmd.append(f"--toggle-collect={toggle}")
     subprocess.run(cmd + args, check=True, cwd=ROOT, env=env,
@@ -57,8 +78,36 @@ def annotate(out, inclusive=False):
 
 
 def total(text):
-    m = re.search(r"([\d,]+) \(100\.0%\)\s+PROGRAM TOTALS", text)
+    """The instructions (the first event) of the PROGRAM TOTALS line."""
+    m = re.search(r"^\s*([\d,]+) \(100\.0%\).*PROGRAM TOTALS", text, re.M)
     return int(m.group(1).replace(",", ""))
+
+
+def events(out):
+    """Every event's program total in a callgrind output file (`--cache`)."""
+    text = subprocess.run(["callgrind_annotate", "--threshold=100", "--auto=no", out],
+                          capture_output=True, text=True, check=True).stdout
+    names = re.search(r"Events shown:\s+(.*)", text).group(1).split()
+    line = next(l for l in text.splitlines() if "PROGRAM TOTALS" in l)
+    values = [int(v.replace(",", "")) for v in re.findall(r"([\d,]+) \(", line)]
+    return dict(zip(names, values))
+
+
+def misses_line(per_step):
+    return "; ".join(f"{what} {per_step.get(ev, 0) / 1e3:.2f} k" for ev, what in MISSES)
+
+
+def top_l2_reads(out, n=5):
+    """The functions with the most L2 data read misses (exclusive)."""
+    text = subprocess.run(["callgrind_annotate", "--threshold=100", "--auto=no",
+                           "--show=DLmr", "--sort=DLmr", out],
+                          capture_output=True, text=True, check=True).stdout
+    rows = {}
+    for line in text.splitlines():
+        m = re.match(r"\s*([\d,]+) \(.*?\)\s+\S*?:(\S+)", line)
+        if m and "PROGRAM" not in line:
+            rows[m.group(2)] = rows.get(m.group(2), 0) + int(m.group(1).replace(",", ""))
+    return rows
 
 
 def step_cost(text):
@@ -82,6 +131,10 @@ def scenes(names):
             text = annotate(out, inclusive=True)
             print(f"{name}: pass {total(text) / STEPS / 1e3:.1f} k a step, "
                   f"commit + evaluation {step_cost(text) / STEPS / 1e3:.1f} k a step")
+            if cache:
+                ev = events(out)
+                print(f"  misses a step of the pass: "
+                      f"{misses_line({k: v / STEPS for k, v in ev.items()})}")
 
 
 # The parts of a head's step `--split` reports: a name and the function
@@ -117,6 +170,8 @@ def head(fast, part=None, split=False, ring_step=None, sweep_step=None):
     env = dict(os.environ, RAYON_NUM_THREADS="1")
     counts = {}
     parts = {}
+    evs = {}
+    tops = {}
     with tempfile.TemporaryDirectory() as tmp:
         layout = os.path.join(ROOT, "layouts", "reference-9.72m.json")
         if part:
@@ -136,6 +191,9 @@ def head(fast, part=None, split=False, ring_step=None, sweep_step=None):
             counts[n] = total(text)
             if split:
                 parts[n] = {name: inclusive(text, f) for name, f in SPLIT}
+            if cache:
+                evs[n] = events(out)
+                tops[n] = top_l2_reads(out)
     per = (counts[12] - counts[2]) / 10
     what = f", its {part} discs alone" if part else ""
     if sweep_step is not None:
@@ -143,6 +201,12 @@ def head(fast, part=None, split=False, ring_step=None, sweep_step=None):
     if ring_step is not None:
         what += f", rings {ring_step} cells apart"
     print(f"reference head{' (fast setting)' if fast else ''}{what}: {per / 1e6:.2f} M a step")
+    if cache:
+        print("  misses a step: " + misses_line({k: (evs[12][k] - evs[2].get(k, 0)) / 10
+                                                  for k in evs[12]}))
+        l2 = {f: (v - tops[2].get(f, 0)) / 10 for f, v in tops[12].items()}
+        for f, v in sorted(l2.items(), key=lambda kv: -kv[1])[:5]:
+            print(f"    L2 read misses {v / 1e3:.2f} k a step: {f}")
     for name, _ in SPLIT if split else []:
         a, b = parts[2][name], parts[12][name]
         if a is None or b is None:
@@ -153,6 +217,10 @@ def head(fast, part=None, split=False, ring_step=None, sweep_step=None):
 
 
 def main():
+    global cache
+    if "--cache" in sys.argv:
+        cache = True
+        sys.argv.remove("--cache")
     if len(sys.argv) >= 3 and sys.argv[1] == "scene":
         scenes(sys.argv[2:])
     elif len(sys.argv) >= 2 and sys.argv[1] == "head":

@@ -391,6 +391,23 @@ impl PosedDisc {
         Some((inn, face_at(qy)))
     }
 
+    /// Bounding box in plan (rock frame, `[x_lo, x_hi, y_lo, y_hi]`) of the
+    /// whole solid, without trigonometry: the solid lies in the radius-`R`
+    /// cylinder about the axle `a`, `hub_half_width` either side of the
+    /// centre, and a radius-`R` circle in the plane normal to `a` spans
+    /// `R sqrt(1 - a_x^2)` either side of its centre along x (and so on
+    /// along y).
+    pub fn plan_box(&self) -> [f64; 4] {
+        // padding for rounding
+        const PAD: f64 = 1e-9;
+        let a = self.rot.column(1);
+        let (r, hw) = (self.radius, self.hub_half_width);
+        let ex = r * (1.0 - a.x * a.x).max(0.0).sqrt() + hw * a.x.abs() + PAD;
+        let ey = r * (1.0 - a.y * a.y).max(0.0).sqrt() + hw * a.y.abs() + PAD;
+        let (cx, cy) = (self.centre.x, self.centre.y);
+        [cx - ex, cx + ex, cy - ey, cy + ey]
+    }
+
     /// Bounding box (rock frame, `[x_lo, x_hi, y_lo, y_hi]`) of the part of the
     /// solid below height `z_top`, or `None` when the whole disc is above it.
     pub fn footprint_below(&self, z_top: f64) -> Option<[f64; 4]> {
@@ -809,6 +826,75 @@ mod tests {
                             );
                         }
                     }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_plan_box_holds_the_whole_solid_and_no_more() {
+        // every point of the surface (rim, side faces and, flanked, the
+        // flanks out to the hub) lies in the box; and the box is tight:
+        // the points reach within 0.1 mm of each of its sides, plus what
+        // the section loses of the radius R towards its ends (the box takes
+        // R over the whole width)
+        let plain = CutterParams::default();
+        let flanked = CutterParams {
+            flank_angle: 0.35,
+            hub_width: 0.05,
+            ..CutterParams::default()
+        };
+        for c in [&plain, &flanked] {
+            for &(yaw, pitch, roll) in &[
+                (0.0, 0.0, 0.0),
+                (0.3, 0.1, 0.0),
+                (0.0, 0.0, 0.5),
+                (0.7, -0.2, 1.0),
+                (0.0, 0.0, -1.2),
+                (1.0, 0.4, 0.3),
+                (2.0, 0.0, 1.5),
+            ] {
+                let d = PosedDisc::new(c, &Pose::new(0.1, -0.2, 0.3, yaw, pitch, roll));
+                let bb = d.plan_box();
+                let mut reach = [
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                ];
+                let (ny, nt, nr) = (200, 720, 20);
+                for k in 0..=ny {
+                    let y = -d.hub_half_width + 2.0 * d.hub_half_width * k as f64 / ny as f64;
+                    let rho = d.rho_full(y);
+                    for i in 0..nt {
+                        let t = std::f64::consts::TAU * i as f64 / nt as f64;
+                        // the circle at y, and at the two ends the face's disc
+                        let radii: Vec<f64> = if k == 0 || k == ny {
+                            (0..=nr).map(|j| rho * j as f64 / nr as f64).collect()
+                        } else {
+                            vec![rho]
+                        };
+                        for r in radii {
+                            let p = d.to_world(&Vector3::new(r * t.sin(), y, -r * t.cos()));
+                            assert!(
+                                p.x >= bb[0] && p.x <= bb[1] && p.y >= bb[2] && p.y <= bb[3],
+                                "pose {yaw} {pitch} {roll}: {p} outside {bb:?}"
+                            );
+                            reach = [
+                                reach[0].min(p.x),
+                                reach[1].max(p.x),
+                                reach[2].min(p.y),
+                                reach[3].max(p.y),
+                            ];
+                        }
+                    }
+                }
+                let slack = d.radius - d.rho_full(d.hub_half_width) + 1e-4;
+                for (side, (b, r)) in bb.iter().zip(reach).enumerate() {
+                    assert!(
+                        (b - r).abs() < slack,
+                        "pose {yaw} {pitch} {roll}: side {side} {b} against {r}"
+                    );
                 }
             }
         }

@@ -461,6 +461,20 @@ impl HeightMap {
             .map(|(i0, i1, j0, j1)| self.max_height(i0, i1, j0, j1))
     }
 
+    /// An upper bound of the rock over the plan box `[x0, x1, y0, y1]`
+    /// plus a cell (the nodes of that box; [`HeightMap::max_height`]),
+    /// `None` when the box misses the map: over a disc's plan box
+    /// ([`PosedDisc::plan_box`]), the highest rock the disc can meet, from
+    /// fewer tiles than [`HeightMap::highest_within`]'s square (a thin strip
+    /// for an upright disc).
+    ///
+    /// [`PosedDisc::plan_box`]: crate::core::cutter::PosedDisc::plan_box
+    pub fn highest_over(&self, [x0, x1, y0, y1]: [f64; 4]) -> Option<f64> {
+        let g = self.grid();
+        g.node_range(x0 - g.dx, x1 + g.dx, y0 - g.dy, y1 + g.dy)
+            .map(|(i0, i1, j0, j1)| self.max_height(i0, i1, j0, j1))
+    }
+
     /// The highest node of the cells ([`Grid::cell`]) that points in
     /// `[x0, x1] x [y0, y1]` lie in, read node by node; [`NO_ROCK`] when
     /// the box misses the map. A tight bound over a few cells, where

@@ -795,18 +795,22 @@ mod tests {
         assert!(bb[3] >= 0.0065 && bb[3] < 0.0065 + 1e-3);
     }
 
+    /// Yaw, pitch and roll of the box tests: upright, turned, tilted both
+    /// ways and all three at once.
+    const BOX_POSES: [(f64, f64, f64); 6] = [
+        (0.0, 0.0, 0.0),
+        (0.3, 0.1, 0.0),
+        (0.0, 0.0, 0.5),
+        (0.7, -0.2, 1.0),
+        (0.0, 0.0, -1.2),
+        (1.0, 0.4, 0.3),
+    ];
+
     #[test]
     fn footprint_holds_every_point_the_disc_reaches_below_the_top() {
         // brute force over a fine grid: wherever a vertical meets the solid
         // below z_top, the point must lie in the footprint box
-        for &(yaw, pitch, roll) in &[
-            (0.0, 0.0, 0.0),
-            (0.3, 0.1, 0.0),
-            (0.0, 0.0, 0.5),
-            (0.7, -0.2, 1.0),
-            (0.0, 0.0, -1.2),
-            (1.0, 0.4, 0.3),
-        ] {
+        for &(yaw, pitch, roll) in &BOX_POSES {
             let pose = Pose::new(0.0, 0.0, 0.2, yaw, pitch, roll);
             let d = disc(pose);
             let z_top = 0.0;
@@ -845,15 +849,8 @@ mod tests {
             ..CutterParams::default()
         };
         for c in [&plain, &flanked] {
-            for &(yaw, pitch, roll) in &[
-                (0.0, 0.0, 0.0),
-                (0.3, 0.1, 0.0),
-                (0.0, 0.0, 0.5),
-                (0.7, -0.2, 1.0),
-                (0.0, 0.0, -1.2),
-                (1.0, 0.4, 0.3),
-                (2.0, 0.0, 1.5),
-            ] {
+            // (and a disc rolled almost onto its side)
+            for &(yaw, pitch, roll) in BOX_POSES.iter().chain([&(2.0, 0.0, 1.5)]) {
                 let d = PosedDisc::new(c, &Pose::new(0.1, -0.2, 0.3, yaw, pitch, roll));
                 let bb = d.plan_box();
                 let mut reach = [

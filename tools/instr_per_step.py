@@ -70,8 +70,8 @@ def callgrind(args, out, toggle=None, env=None):
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
-def annotate(out, inclusive=False):
-    args = ["callgrind_annotate", "--threshold=100", "--auto=no"]
+def annotate(out, inclusive=False, extra=()):
+    args = ["callgrind_annotate", "--threshold=100", "--auto=no", *extra]
     if inclusive:
         args.append("--inclusive=yes")
     return subprocess.run(args + [out], capture_output=True, text=True, check=True).stdout
@@ -83,10 +83,8 @@ def total(text):
     return int(m.group(1).replace(",", ""))
 
 
-def events(out):
-    """Every event's program total in a callgrind output file (`--cache`)."""
-    text = subprocess.run(["callgrind_annotate", "--threshold=100", "--auto=no", out],
-                          capture_output=True, text=True, check=True).stdout
+def events(text):
+    """Every event's program total, from `annotate`'s text (`--cache`)."""
     names = re.search(r"Events shown:\s+(.*)", text).group(1).split()
     line = next(l for l in text.splitlines() if "PROGRAM TOTALS" in l)
     values = [int(v.replace(",", "")) for v in re.findall(r"([\d,]+) \(", line)]
@@ -97,11 +95,9 @@ def misses_line(per_step):
     return "; ".join(f"{what} {per_step.get(ev, 0) / 1e3:.2f} k" for ev, what in MISSES)
 
 
-def top_l2_reads(out, n=5):
-    """The functions with the most L2 data read misses (exclusive)."""
-    text = subprocess.run(["callgrind_annotate", "--threshold=100", "--auto=no",
-                           "--show=DLmr", "--sort=DLmr", out],
-                          capture_output=True, text=True, check=True).stdout
+def top_l2_reads(out):
+    """Each function's L2 data read misses (exclusive)."""
+    text = annotate(out, extra=["--show=DLmr", "--sort=DLmr"])
     rows = {}
     for line in text.splitlines():
         m = re.match(r"\s*([\d,]+) \(.*?\)\s+\S*?:(\S+)", line)
@@ -132,7 +128,7 @@ def scenes(names):
             print(f"{name}: pass {total(text) / STEPS / 1e3:.1f} k a step, "
                   f"commit + evaluation {step_cost(text) / STEPS / 1e3:.1f} k a step")
             if cache:
-                ev = events(out)
+                ev = events(text)
                 print(f"  misses a step of the pass: "
                       f"{misses_line({k: v / STEPS for k, v in ev.items()})}")
 
@@ -192,7 +188,7 @@ def head(fast, part=None, split=False, ring_step=None, sweep_step=None):
             if split:
                 parts[n] = {name: inclusive(text, f) for name, f in SPLIT}
             if cache:
-                evs[n] = events(out)
+                evs[n] = events(text)
                 tops[n] = top_l2_reads(out)
     per = (counts[12] - counts[2]) / 10
     what = f", its {part} discs alone" if part else ""

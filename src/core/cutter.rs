@@ -863,15 +863,15 @@ mod tests {
                 for k in 0..=ny {
                     let y = -d.hub_half_width + 2.0 * d.hub_half_width * k as f64 / ny as f64;
                     let rho = d.rho_full(y);
+                    // the circle at y, and at the two ends the face's disc
+                    let radii: Vec<f64> = if k == 0 || k == ny {
+                        (0..=nr).map(|j| rho * j as f64 / nr as f64).collect()
+                    } else {
+                        vec![rho]
+                    };
                     for i in 0..nt {
                         let t = std::f64::consts::TAU * i as f64 / nt as f64;
-                        // the circle at y, and at the two ends the face's disc
-                        let radii: Vec<f64> = if k == 0 || k == ny {
-                            (0..=nr).map(|j| rho * j as f64 / nr as f64).collect()
-                        } else {
-                            vec![rho]
-                        };
-                        for r in radii {
+                        for &r in &radii {
                             let p = d.to_world(&Vector3::new(r * t.sin(), y, -r * t.cos()));
                             assert!(
                                 p.x >= bb[0] && p.x <= bb[1] && p.y >= bb[2] && p.y <= bb[3],

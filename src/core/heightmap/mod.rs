@@ -456,9 +456,7 @@ impl HeightMap {
     /// when the square misses the map: the highest rock a disc of radius
     /// `r` centred over `(x, y)` can meet.
     pub fn highest_within(&self, x: f64, y: f64, r: f64) -> Option<f64> {
-        let g = self.grid();
-        g.node_range(x - r - g.dx, x + r + g.dx, y - r - g.dy, y + r + g.dy)
-            .map(|(i0, i1, j0, j1)| self.max_height(i0, i1, j0, j1))
+        self.highest_over([x - r, x + r, y - r, y + r])
     }
 
     /// An upper bound of the rock over the plan box `[x0, x1, y0, y1]`

@@ -474,6 +474,62 @@ pub fn laps_plan(
     Plan { prm, passes }
 }
 
+/// The reference head's 19 in disc (`layouts/reference-9.72m.json`).
+pub fn head_disc() -> CutterParams {
+    CutterParams {
+        radius: 0.2413,
+        tip_width: 0.019,
+        tip_radius: 0.0127,
+        ..CutterParams::default()
+    }
+}
+
+/// A cutterhead's centre disc in its own groove: [`head_disc`] runs a first
+/// lap of the circle of radius `rt` `first` deep, then the same circle
+/// `depth` deep ([`laps_plan`]), on a face that holds the whole circle and
+/// the disc around it (the face of [`laps_plan`] ends at the circle's top).
+/// On a track this tight the disc's plane leaves its curved groove ahead
+/// of the lowest point and behind it: the rim's strips meet the groove's
+/// walls over part of the tip, and the rear of the disc scrubs the outer
+/// wall.
+pub fn own_groove_plan(cell: f64, rt: f64, first: f64, depth: f64) -> Plan {
+    let mut plan = laps_plan(&head_disc(), cell, rt, Some(first), depth);
+    let mut prm = face(cell, -rt - 0.35, rt + 0.35, -0.35, 2.0 * rt + 0.35);
+    prm.cutter = plan.prm.cutter;
+    plan.prm = prm;
+    plan
+}
+
+/// The contact's cutting force on the measured pass of `plan` at each
+/// path length of `at` [m] (1 mm steps, as [`Plan::run`]), and the
+/// brute-force oracle's there too at resolution `oracle`, if given.
+pub fn forces_along(
+    plan: &Plan,
+    at: &[f64],
+    oracle: Option<&crate::core::contact_bruteforce::Resolution>,
+) -> Vec<([f64; 3], Option<[f64; 3]>)> {
+    let mut m = Model::new(plan.prm.clone()).unwrap();
+    let (last, first) = plan.passes.split_last().unwrap();
+    for (t, len) in first {
+        roll(&mut m, t.as_ref(), *len, 1e-3, 0.0, 0.0);
+    }
+    let t = last.0.as_ref();
+    let end = at.iter().copied().fold(0.0, f64::max);
+    let mut out = Vec::new();
+    for k in 0..=(end / 1e-3).round() as usize {
+        let s = k as f64 * 1e-3;
+        let (pose, tw) = (t.pose(s), t.twist(s));
+        m.commit(&pose, &tw, if k == 0 { 0.0 } else { 1e-3 })
+            .expect("commit");
+        if at.iter().any(|a| (a - s).abs() < 1e-9) {
+            let fast = cutting_force(&pose, &m.contact(&pose, &tw));
+            let brute = oracle.map(|r| cutting_force(&pose, &m.contact_brute(&pose, &tw, r)));
+            out.push((fast, brute));
+        }
+    }
+    out
+}
+
 /// Re-rolls a groove at its own depth: the first pass cuts it, the second
 /// rolls it again on the same track (`radius` = None: straight).
 pub fn reroll(cell: f64, depth: f64, radius: Option<f64>) -> Mean {

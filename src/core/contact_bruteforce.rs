@@ -80,15 +80,21 @@ pub fn contact_brute(
     };
     let mut loads = [[Load::default(); 2]; 2];
     let mut depth = [0.0f64; 2];
+    let mut spread = [0.0f64; 2];
     for c in o.circles(res) {
         for (s, dir) in [(0usize, 1.0f64), (1, -1.0)] {
             if let Some((load, arc_depth)) = o.arc(&c.e, dir) {
                 depth[s] = depth[s].max(arc_depth * c.share);
+                // (the side blend's depth over the tip's width: the oracle's
+                // strips are all as wide, so the width drops out of it)
+                if !c.face {
+                    spread[s] += arc_depth;
+                }
                 loads[usize::from(c.face)][s] += load.scaled(c.share);
             }
         }
     }
-    assemble(disc, law, res.slices, loads, depth)
+    assemble(disc, law, res.slices, loads, depth, spread)
         .map(|(c, _)| c)
         .unwrap_or_default()
 }

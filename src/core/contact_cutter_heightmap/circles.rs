@@ -94,7 +94,7 @@ pub(super) struct Circle {
     /// A flank band (`width` is then its width along the flank).
     pub(super) flank: bool,
     /// A rim sample of a split strip: its depth counts in full (not in
-    /// proportion to its width) in the side blend.
+    /// proportion to its width) in the penetration.
     pub(super) sub: bool,
 }
 

@@ -114,7 +114,7 @@ pub(super) fn rock_to_the_end(
 /// arc's depth `reg` (an arc shallower than `numerics.pReg` grows linearly
 /// from first touch, as the CSM law does). Returns the load and the fraction
 /// of the whole arc's force it keeps (which scales the arc's depth in the
-/// side blend). `parts`: the arc's driving parts
+/// penetration and the side blend). `parts`: the arc's driving parts
 /// (`e.driving_parts(t0, t1)`) when the caller has them.
 #[allow(clippy::too_many_arguments)]
 pub fn arc_contribution(
@@ -164,19 +164,27 @@ pub fn arc_contribution(
 }
 
 /// The contact from the summed loads `[rim | face][side]` (cutter frame,
-/// unit pressure) and each side's effective depth: the side blend
-/// `p^4 / (p+^4 + p-^4)`, the penetration, the pressure level of `n` slices
-/// and the rock-frame forces. `None` when no side reaches any depth. Also
-/// returns the blend weights.
+/// unit pressure), each side's effective depth (its deepest loaded arc) and
+/// its rim arcs' depths summed over the tip's width (`spread`): the side
+/// blend `d^4 / (d+^4 + d-^4)` of the spreads (of the depths where no rim arc
+/// carries any), the penetration (the depths so blended), the pressure level
+/// of `n` slices and the rock-frame forces. `None` when no side reaches any
+/// depth. Also returns the blend weights.
 pub fn assemble(
     disc: &PosedDisc,
     law: &CsmLaw,
     n: usize,
     loads: [[Load; 2]; 2],
     depth: [f64; 2],
+    spread: [f64; 2],
 ) -> Option<(Contact, (f64, f64))> {
     let (wp, wm) = {
-        let (a, b) = (depth[0].powi(4), depth[1].powi(4));
+        let by = if spread[0] + spread[1] > 0.0 {
+            spread
+        } else {
+            depth
+        };
+        let (a, b) = (by[0].powi(4), by[1].powi(4));
         if a + b > 0.0 {
             (a / (a + b), b / (a + b))
         } else {

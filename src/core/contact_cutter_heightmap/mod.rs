@@ -27,10 +27,13 @@
 //! integrated over the arcs where the surface is inside the rock and driving
 //! into it, on every rim slice and, for a tilted disc, on rings of its lower
 //! side face. Both sides of each circle are walked from its lowest point;
-//! the arcs of the side that cuts weigh `p^4 / (p+^4 + p-^4)` by the depth
-//! each side's driving arcs reach, so a cutter at rest in its own symmetric
-//! pit pushes straight up, and one at rest after rolling keeps the load of
-//! its leading arc.
+//! the arcs of each side weigh `d^4 / (d+^4 + d-^4)` by the depth `d` of
+//! that side's driving rim arcs over the tip's width (each arc's depth times
+//! its strip's width, summed), so a cutter at rest in its own symmetric pit
+//! pushes straight up, one at rest after rolling keeps the load of its
+//! leading arc, and a band of the tip where the rear of a turning disc
+//! scrubs its groove's wall weighs as wide as it is (weighed by each side's
+//! deepest arc, one slice in such a band took up to a fifth of the load).
 //!
 //! **Elastic layer.** A cut leaves the rock `elastic_depth` inside the rim
 //! (see `cut_cutter_heightmap`), so a cutter held still keeps its contact.
@@ -174,7 +177,8 @@ pub fn contact(
     // rock still dips into its own groove's walls, which the map blurs
     // across a cell at the tip's edges, and reported touching rock with
     // every force zero
-    let Some((mut c, weights)) = assemble(disc, law, q.n, sums.loads, sums.depth) else {
+    let Some((mut c, weights)) = assemble(disc, law, q.n, sums.loads, sums.depth, sums.spread)
+    else {
         return none;
     };
     if let Some((kg, _)) = sums.gov {
@@ -272,6 +276,10 @@ struct Sums {
     loads: [[Load; 2]; 2],
     /// The depth each side's loaded arcs reach.
     depth: [f64; 2],
+    /// Each side's rim arcs' depths summed over the tip's width: each arc's
+    /// depth times the share of its load it keeps (`eff`) times the width of
+    /// its strip that touches (the side blend's measure, `assemble`).
+    spread: [f64; 2],
     /// The deepest rim arc that carries load (its circle and depth): an arc
     /// a moving disc leaves behind cuts nothing.
     gov: Option<(usize, f64)>,
@@ -617,6 +625,7 @@ impl<'a> Query<'a> {
         let mut sums = Sums {
             loads: [[Load::default(); 2]; 2],
             depth: [0.0; 2],
+            spread: [0.0; 2],
             gov: None,
             sub_arcs: [[None; 2]; MAX_SUB],
         };
@@ -691,6 +700,9 @@ impl<'a> Query<'a> {
                     (load, eff)
                 };
                 sums.depth[side] = sums.depth[side].max(arc.depth * eff * share);
+                if c.face == 0.0 {
+                    sums.spread[side] += c.width * arc.depth * eff;
+                }
                 // (the deepest rim arc that carries load)
                 if c.face == 0.0 && eff > 0.0 && sums.gov.is_none_or(|(_, d)| arc.depth > d) {
                     sums.gov = Some((ci, arc.depth));

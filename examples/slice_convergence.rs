@@ -6,9 +6,10 @@
 //! cutting force (normal / rolling / side) at s = 70, 100 and 130 mm of the
 //! measured lap, and the largest component's difference from the oracle's,
 //! in % of the oracle's normal force.
-//! `cargo run --release --example slice_convergence -- [first_mm depth_mm [cell_mm]]`
+//! `cargo run --release --example slice_convergence -- [first_mm depth_mm [cell_mm [thesis]]]`
+//! (`thesis`: the thesis's 17 in disc instead of the head's 19 in one)
 use kerf::core::contact_bruteforce::Resolution;
-use kerf::scenes::{forces_along, own_groove_plan};
+use kerf::scenes::{forces_along, head_disc, own_groove_plan};
 
 fn mean(v: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
     let v: Vec<[f64; 3]> = v.collect();
@@ -19,14 +20,22 @@ fn mean(v: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
 fn main() {
     let a: Vec<f64> = std::env::args()
         .skip(1)
+        .take(3)
         .map(|s| s.parse().expect("first_mm depth_mm cell_mm"))
         .collect();
     let (first, depth) = (a.first().map_or(6.0, |v| *v), a.get(1).map_or(12.0, |v| *v));
     let cell = a.get(2).map_or(1.0, |v| *v) * 1e-3;
+    // the reference head's disc, or the thesis's (`thesis` as a 4th argument)
+    let disc = if std::env::args().nth(4).as_deref() == Some("thesis") {
+        kerf::core::params::CutterParams::default()
+    } else {
+        head_disc()
+    };
     let at = [0.07, 0.10, 0.13];
     println!(
-        "19 in disc, first lap {first} mm, measured lap {depth} mm deep, {} mm cells; \
+        "R = {} mm disc, first lap {first} mm, measured lap {depth} mm deep, {} mm cells; \
          mean cutting force at s = 70, 100, 130 mm [kN]",
+        disc.radius * 1e3,
         cell * 1e3
     );
     println!(
@@ -34,7 +43,7 @@ fn main() {
     );
     for rt in [0.06, 0.1, 0.145, 0.23, 0.4, 1.0] {
         let plan = |n: usize| {
-            let mut p = own_groove_plan(cell, rt, first * 1e-3, depth * 1e-3);
+            let mut p = own_groove_plan(&disc, cell, rt, first * 1e-3, depth * 1e-3);
             p.prm.numerics.tip_slices = n;
             p
         };

@@ -484,16 +484,17 @@ pub fn head_disc() -> CutterParams {
     }
 }
 
-/// A cutterhead's centre disc in its own groove: [`head_disc`] runs a first
-/// lap of the circle of radius `rt` `first` deep, then the same circle
-/// `depth` deep ([`laps_plan`]), on a face that holds the whole circle and
-/// the disc around it (the face of [`laps_plan`] ends at the circle's top).
+/// A cutterhead's centre disc in its own groove: a disc of `cutter` (the
+/// reference head's is [`head_disc`]) runs a first lap of the circle of
+/// radius `rt` `first` deep, then the same circle `depth` deep
+/// ([`laps_plan`]), on a face that holds the whole circle and the disc
+/// around it (the face of [`laps_plan`] ends at the circle's top).
 /// On a track this tight the disc's plane leaves its curved groove ahead
 /// of the lowest point and behind it: the rim's strips meet the groove's
 /// walls over part of the tip, and the rear of the disc scrubs the outer
 /// wall.
-pub fn own_groove_plan(cell: f64, rt: f64, first: f64, depth: f64) -> Plan {
-    let mut plan = laps_plan(&head_disc(), cell, rt, Some(first), depth);
+pub fn own_groove_plan(cutter: &CutterParams, cell: f64, rt: f64, first: f64, depth: f64) -> Plan {
+    let mut plan = laps_plan(cutter, cell, rt, Some(first), depth);
     let mut prm = face(cell, -rt - 0.35, rt + 0.35, -0.35, 2.0 * rt + 0.35);
     prm.cutter = plan.prm.cutter;
     plan.prm = prm;

@@ -60,7 +60,7 @@ fn the_fast_contact_matches_the_brute_force_oracle_on_every_scene() {
 fn a_centre_disc_in_its_own_groove_follows_the_oracle() {
     let at = [0.07, 0.10, 0.13];
     for rt in [0.06, 0.1, 0.145, 0.23] {
-        let plan = own_groove_plan(1e-3, rt, 6e-3, 12e-3);
+        let plan = own_groove_plan(&head_disc(), 1e-3, rt, 6e-3, 12e-3);
         let f = forces_along(&plan, &at, Some(&Resolution::default()));
         let mean = |v: Vec<[f64; 3]>| {
             [0, 1, 2].map(|k| v.iter().map(|x| x[k]).sum::<f64>() / v.len() as f64)

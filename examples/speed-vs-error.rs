@@ -40,10 +40,11 @@ use std::time::Instant;
 use kerf::core::baseline::{BaselineModel, BaselineResolution};
 use kerf::core::contact_bruteforce::Resolution;
 use kerf::core::cutter::PosedDisc;
+use kerf::core::params::CutterParams;
 use kerf::core::{Model, Outputs, Params, Pose, Twist};
 use kerf::scenes::{
-    beside_plan, cutting_force, fresh_plan, gauge_plan, lap_plan, rolled, Mean, Plan, Track, P_REF,
-    WINDOW,
+    beside_plan, cutting_force, fresh_plan, gauge_plan, lap_plan, own_groove_plan, rolled, Mean,
+    Plan, Track, P_REF, WINDOW,
 };
 use nalgebra::Vector3;
 use serde_json::{json, Value};
@@ -390,6 +391,13 @@ fn scene_defs() -> Vec<(String, &'static str, PlanAt)> {
         "gauge 60°, r = 4.83 m".into(),
         "gauge",
         Box::new(|c| gauge_plan(c, P_REF, -60f64.to_radians(), 4.83)),
+    ));
+    // a centre disc re-entering its own groove a revolution's penetration
+    // deeper on a tight track (README, "Centre discs in their own grooves")
+    v.push((
+        "own groove, r = 0.1 m".into(),
+        "own",
+        Box::new(|c| own_groove_plan(&CutterParams::default(), c, 0.1, P_REF, 2.0 * P_REF)),
     ));
     v
 }

@@ -229,7 +229,11 @@ def scene_markdown(summary, data, L, offsets=()):
         "over the pass's own groove (straight, or a second lap of a curved track). **curved r, "
         "fresh lap**: one lap of an r-radius track on fresh rock. **gauge g, r**: a gauge cutter, rolled by g "
         "with its tip leaning away from the centre of an r-radius track, heading 30° to the grid on fresh rock "
-        "(its side face shaves a thin wedge off the wall; docs/head.md, \"Gauge cutters on curved tracks\").\n"
+        "(its side face shaves a thin wedge off the wall; docs/head.md, \"Gauge cutters on curved tracks\"). "
+        "**own groove, r**: a centre disc's second lap of an r-radius track, 7.6 mm deep in the 3.8 mm "
+        "groove of its first lap, as a cutterhead's centre disc re-enters its groove a revolution later "
+        "(on a track this tight the disc's plane leaves its curved groove, and its rear scrubs the groove's "
+        "wall; README, \"Centre discs in their own grooves\").\n"
     )
     L.append(
         f"Forces (the FMU's outputs, friction included) at the default 1 mm cells, and the error of each component against the same "

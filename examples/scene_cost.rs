@@ -4,7 +4,9 @@
 //! `gauge DEG R [RING_STEP]` (side-face rings `RING_STEP` cells apart,
 //! `numerics.ringStepCells`; 0.5 by default),
 //! `deeper R D1 D2`: a 19 in disc's second lap of an R track, D2 deep, in
-//! the groove of a first lap D1 deep, as a head's face disc runs).
+//! the groove of a first lap D1 deep, as a head's face disc runs),
+//! `own R`: the report's centre disc in its own groove (`own_groove_plan`,
+//! the thesis's disc 7.6 mm deep in its 3.8 mm groove on an R track).
 use kerf::scenes::*;
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
@@ -20,10 +22,12 @@ fn main() {
             p
         }
         "deeper" => {
-            let mut c = kerf::core::Params::default().cutter;
-            (c.radius, c.tip_width, c.tip_radius) = (0.2413, 0.019, 0.0127);
             let first = Some(x(2, 0.006)).filter(|&d| d > 0.0);
-            laps_plan(&c, 1e-3, x(1, 2.0), first, x(3, 0.012))
+            laps_plan(&head_disc(), 1e-3, x(1, 2.0), first, x(3, 0.012))
+        }
+        "own" => {
+            let c = kerf::core::Params::default().cutter;
+            own_groove_plan(&c, 1e-3, x(1, 0.1), P_REF, 2.0 * P_REF)
         }
         _ => fresh_plan(1e-3, P_REF, 0.0),
     };

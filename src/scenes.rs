@@ -502,7 +502,7 @@ pub fn own_groove_plan(cutter: &CutterParams, cell: f64, rt: f64, first: f64, de
 }
 
 /// The contact's cutting force on the measured pass of `plan` at each
-/// path length of `at` [m] (1 mm steps, as [`Plan::run`]), and the
+/// path length of `at` \[m\] (1 mm steps, as [`Plan::run`]), and the
 /// brute-force oracle's there too at resolution `oracle`, if given.
 pub fn forces_along(
     plan: &Plan,

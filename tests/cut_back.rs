@@ -296,10 +296,11 @@ fn curved_tracks_from_the_centre_to_the_gauge_cut_the_same_face() {
 #[test]
 fn a_disc_with_flanks_cuts_the_same_face() {
     let mut p = prm();
-    let c = &mut p.cutter;
-    (c.radius, c.tip_width, c.tip_radius) = (0.2413, 0.019, 0.0127);
-    c.flank_angle = 20f64.to_radians();
-    c.hub_width = 0.05;
+    p.cutter = CutterParams {
+        flank_angle: 20f64.to_radians(),
+        hub_width: 0.05,
+        ..head_disc()
+    };
     check(
         "19 in, 20 deg flanks, 14 mm deep",
         &p,

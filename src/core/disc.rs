@@ -34,6 +34,7 @@ use super::model::{
 use super::params::MAX_NODE_VISITS_PER_CALL;
 use super::params::{CsmParams, CutterParams, DirectionRule, Params};
 use super::pose::{Pose, Twist};
+use super::schedule::{dearest_first, WorkHints};
 
 /// A disc: geometry, CSM law (with its own spacing) and the last evaluation.
 #[derive(Debug)]
@@ -52,6 +53,9 @@ pub struct Disc {
     /// rock since: what the next cut may leave out behind ([`Back`]).
     /// Not state: without it a cut walks its whole window, to the same face.
     cut_record: Cell<Option<CutRecord>>,
+    /// What this disc's last contact and cut took: the order a head hands
+    /// its discs to the pool ([`dearest_first`]).
+    work: WorkHints,
 }
 
 /// A cut a disc made: on which map history ([`HeightMap::lineage`]), at
@@ -76,6 +80,7 @@ impl Clone for Disc {
             cache: Cell::new(None),
             free: self.free,
             cut_record: Cell::new(None),
+            work: self.work.clone(),
         }
     }
 }
@@ -137,6 +142,7 @@ impl Disc {
             cache: Cell::new(None),
             free: false,
             cut_record: Cell::new(None),
+            work: WorkHints::default(),
         }
     }
 
@@ -465,11 +471,21 @@ pub fn evaluate_all(
     if let Some(outputs) = kept {
         return outputs;
     }
+    // the dearest first (a step's gauge discs cost four to six face discs)
+    let jobs = discs
+        .iter_mut()
+        .zip(states)
+        .zip(motions)
+        .map(|((d, s), m)| (d.work.contact.get(), (d, s, m)))
+        .collect();
+    let done = dearest_first(jobs, |(d, s, (p, t))| d.evaluate(map, s, p, t, params));
     discs
-        .par_iter_mut()
-        .zip(states.par_iter())
-        .zip(motions.par_iter())
-        .map(|((d, s), (p, t))| d.evaluate(map, s, p, t, params))
+        .iter()
+        .zip(done)
+        .map(|(d, (outputs, took))| {
+            d.work.contact.set(took);
+            outputs
+        })
         .collect()
 }
 
@@ -922,16 +938,20 @@ fn cut_together(
             .map
             .patches(&rects)
             .expect("a wave's windows share no tile");
-        let done: Vec<CutStats> = patches
-            .into_par_iter()
-            .zip(members.par_iter())
-            .map(|(mut patch, &a)| {
-                let win = &windows[a].as_ref().expect("member").0;
-                cut_patch(&mut patch, win, &posed[a], fronts[a].1, fraction)
-            })
+        // the dearest first (a gauge disc's cut costs up to twenty face
+        // discs'); each cut on its own patch, so the order changes nothing
+        let jobs = patches
+            .into_iter()
+            .zip(&members)
+            .map(|(patch, &a)| (discs[group[a]].work.cut.get(), (patch, a)))
             .collect();
-        for (&a, st) in members.iter().zip(done) {
+        let done = dearest_first(jobs, |(mut patch, a)| {
+            let win = &windows[a].as_ref().expect("member").0;
+            cut_patch(&mut patch, win, &posed[a], fronts[a].1, fraction)
+        });
+        for (&a, (st, took)) in members.iter().zip(done) {
             stats[a] = st;
+            discs[group[a]].work.cut.set(took);
         }
     }
     let mut changed = false;

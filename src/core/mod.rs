@@ -41,6 +41,7 @@ pub mod cut_cutter_heightmap;
 pub mod cutter;
 pub mod heightmap;
 pub mod rsf;
+mod schedule;
 
 /// Uniform numbers in [0, 1) from `seed` (xorshift64), for tests that
 /// sample many cases and must draw the same ones every run.

@@ -76,7 +76,8 @@ pub(super) fn split_in_thirds(
 /// thirds, where an edge is free (below).
 ///
 /// Whether a circle touches the rock is a yes/no reading of the height map
-/// (the rim inside the interpolated rock by micrometres). Where the wall of
+/// (the rim inside the interpolated rock by micrometres; for a disc rolling
+/// along, on the side of the circle that drives alone, `Query::probe_sides`). Where the wall of
 /// a groove cut earlier (or by another part of a tilted disc) meets rock the
 /// disc is in, the answer switches within a hundredth of a cell of a node
 /// row, so sampling each slice at its middle switched the whole strip's

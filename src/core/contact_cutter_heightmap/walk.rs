@@ -509,30 +509,43 @@ impl SliceWalk {
         })
     }
 
-    /// Whether walking both sides ([`SliceWalk::march_into`]) finds a
-    /// contact on either side (either walk `is_some()`), without walking
-    /// the arcs.
-    pub(super) fn touches(&self, map: &HeightMap, disc: &PosedDisc) -> bool {
+    /// Whether walking the sides `wanted()` (`[+1, -1]`;
+    /// [`SliceWalk::march_into`]) finds a contact on one of them (its walk
+    /// `is_some()`), without walking the arcs: the rock is over the rim at
+    /// its lowest point (`wanted` is then not asked), or on one of those
+    /// sides within the reach.
+    pub(super) fn touches(
+        &self,
+        map: &HeightMap,
+        disc: &PosedDisc,
+        wanted: impl FnOnce() -> [bool; 2],
+    ) -> bool {
         let (rim, s, c, here0) = self.start(map, disc);
         if here0 > 0.0 {
             return true;
         }
+        let wanted = wanted();
         let n = ((self.reach / self.step).ceil() as usize).max(1);
-        [1.0, -1.0].into_iter().any(|dir| {
-            let dt = dir * self.reach / n as f64;
-            find_start(
-                map,
-                &rim,
-                self.radius,
-                (self.theta0, s, c),
-                here0,
-                self.reach,
-                dir,
-                dt,
-                (self.look, self.skip),
-            )
-            .is_some()
-        })
+        [1.0, -1.0]
+            .into_iter()
+            .zip(wanted)
+            .filter(|w| w.1)
+            .map(|w| w.0)
+            .any(|dir| {
+                let dt = dir * self.reach / n as f64;
+                find_start(
+                    map,
+                    &rim,
+                    self.radius,
+                    (self.theta0, s, c),
+                    here0,
+                    self.reach,
+                    dir,
+                    dt,
+                    (self.look, self.skip),
+                )
+                .is_some()
+            })
     }
 }
 

@@ -456,13 +456,14 @@ impl<'a> Query<'a> {
         let mut engaged: ArrayVec<Option<(f64, f64)>, 101> = (0..n).map(|_| None).collect();
         let mut split: ArrayVec<bool, 101> = (0..n).map(|_| false).collect();
         if m > 0.0 {
+            let probe = self.probe_sides(s);
             engaged_strips(
                 h,
                 n,
                 |k| s.touches(k),
                 |y| {
                     SliceWalk::below(disc, (y, disc.rho(y)), z_top, walk)
-                        .is_some_and(|w| w.touches(map, disc, || self.probe_sides(&w)))
+                        .is_some_and(|w| w.touches(map, disc, probe))
                 },
                 |y| {
                     let rho = disc.rho(y);
@@ -506,8 +507,8 @@ impl<'a> Query<'a> {
 
     /// The sides of a circle the edge search (`engaged_strips`) asks
     /// whether it touches the rock: for a disc rolling along (the whole
-    /// load the driving one, `Motion::moving` 1), the side that drives
-    /// alone where only one does; else both.
+    /// load the driving one, `Motion::moving` 1) whose tip slices all
+    /// drive on the same one side, that side alone; else both.
     ///
     /// A rolling disc's trailing side carries no load, so rock it alone
     /// touches adds nothing to a strip; asked on both sides, a circle over
@@ -515,25 +516,18 @@ impl<'a> Query<'a> {
     /// searched to the end of its reach behind as well as ahead, and found
     /// nothing on either: the edge search was a quarter of a pass beside a
     /// groove. In every scene measured (`examples/scene_bits`,
-    /// `contact_scenes`, `slice_convergence`, `offset_steps`, the reference
-    /// head over 300 steps) no circle touched behind alone, and the forces
-    /// are the same bit for bit.
-    #[inline(never)]
-    fn probe_sides(&self, w: &SliceWalk) -> [bool; 2] {
-        if self.motion.moving < 1.0 {
-            return [true; 2];
-        }
-        let c = Circle {
-            y: w.y,
-            radius: w.radius,
-            ..Circle::default()
-        };
-        let e = c.element(self.disc, &self.motion);
-        let d = w.sides_driving(&e, e.driving(), DRIVE_SLIVER_CELLS * self.look / c.radius);
-        if d[0] == d[1] {
+    /// `contact_scenes`, `slice_convergence`, `offset_steps`,
+    /// `offset_convergence`, the reference head over 300 steps) no circle
+    /// touched behind alone, and the forces are the same bit for bit.
+    fn probe_sides(&self, s: &Surface) -> [bool; 2] {
+        let first = s.drives[0];
+        if self.motion.moving < 1.0
+            || first[0] == first[1]
+            || s.drives[1..self.n].iter().any(|d| *d != first)
+        {
             [true; 2]
         } else {
-            d
+            first
         }
     }
 

@@ -509,22 +509,15 @@ impl SliceWalk {
         })
     }
 
-    /// Whether walking the sides `wanted()` (`[+1, -1]`;
+    /// Whether walking the sides `wanted` (`[+1, -1]`;
     /// [`SliceWalk::march_into`]) finds a contact on one of them (its walk
     /// `is_some()`), without walking the arcs: the rock is over the rim at
-    /// its lowest point (`wanted` is then not asked), or on one of those
-    /// sides within the reach.
-    pub(super) fn touches(
-        &self,
-        map: &HeightMap,
-        disc: &PosedDisc,
-        wanted: impl FnOnce() -> [bool; 2],
-    ) -> bool {
+    /// its lowest point, or on one of those sides within the reach.
+    pub(super) fn touches(&self, map: &HeightMap, disc: &PosedDisc, wanted: [bool; 2]) -> bool {
         let (rim, s, c, here0) = self.start(map, disc);
         if here0 > 0.0 {
             return true;
         }
-        let wanted = wanted();
         let n = ((self.reach / self.step).ceil() as usize).max(1);
         [1.0, -1.0]
             .into_iter()

@@ -28,27 +28,20 @@ use rayon::prelude::*;
 /// Runs `f` on every item on rayon's current pool, one job an item, the
 /// items with the largest hint (what the item took the last time, in any
 /// unit: 0 when unknown) first, and equal hints in the items' order.
-/// Returns each item's result with the nanoseconds it took, in the items'
-/// order.
+/// Returns each item's result with the nanoseconds it took (0 on a pool of
+/// one thread, where nothing is ordered), in the items' order.
 pub(crate) fn dearest_first<T, R, F>(items: Vec<(u64, T)>, f: F) -> Vec<(R, u64)>
 where
     T: Send,
     R: Send,
     F: Fn(T) -> R + Sync,
 {
-    // one thread: on the calling thread, in the items' order (handing each
-    // phase of a head step to the pool's one worker and waiting for it was
-    // a quarter of the reference head's step on one thread)
+    // one thread: on the calling thread, in the items' order, untimed
+    // (handing each phase of a head step to the pool's one worker and
+    // waiting for it was a quarter of the reference head's step on one
+    // thread)
     if rayon::current_num_threads() <= 1 {
-        return items
-            .into_iter()
-            .map(|(_, item)| {
-                let start = Instant::now();
-                let r = f(item);
-                let took = u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
-                (r, took)
-            })
-            .collect();
+        return items.into_iter().map(|(_, item)| (f(item), 0)).collect();
     }
     let mut done: Vec<(usize, R, u64)> = dearest_order(items)
         .into_par_iter()

@@ -8,8 +8,10 @@
 //!
 //! Likewise a moving disc's circles (rim slices, side-face rings, flank
 //! bands) are walked only on the sides that drive into the rock somewhere
-//! within their reach (their other arcs carry nothing), held against walking
-//! every side (`numerics.walk_every_side`).
+//! within their reach (their other arcs carry nothing), and the edge
+//! search across the tip asks a rolling disc's circles about their driving
+//! side alone, held against walking and asking every side
+//! (`numerics.walk_every_side`).
 
 use kerf::core::{Model, Pose, Twist};
 use kerf::scenes::*;

@@ -508,7 +508,8 @@ impl<'a> Query<'a> {
     /// The sides of a circle the edge search (`engaged_strips`) asks
     /// whether it touches the rock: for a disc rolling along (the whole
     /// load the driving one, `Motion::moving` 1) whose tip slices all
-    /// drive on the same one side, that side alone; else both.
+    /// drive on the same one side, that side alone; else (and with
+    /// `numerics.walk_every_side`) both.
     ///
     /// A rolling disc's trailing side carries no load, so rock it alone
     /// touches adds nothing to a strip; asked on both sides, a circle over
@@ -521,7 +522,8 @@ impl<'a> Query<'a> {
     /// touched behind alone, and the forces are the same bit for bit.
     fn probe_sides(&self, s: &Surface) -> [bool; 2] {
         let first = s.drives[0];
-        if self.motion.moving < 1.0
+        if self.every
+            || self.motion.moving < 1.0
             || first[0] == first[1]
             || s.drives[1..self.n].iter().any(|d| *d != first)
         {

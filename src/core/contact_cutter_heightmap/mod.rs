@@ -519,7 +519,8 @@ impl<'a> Query<'a> {
     /// groove. In every scene measured (`examples/scene_bits`,
     /// `contact_scenes`, `slice_convergence`, `offset_steps`,
     /// `offset_convergence`, the reference head over 300 steps) no circle
-    /// touched behind alone, and the forces are the same bit for bit.
+    /// touched behind alone, and the forces are the same bit for bit;
+    /// `tests/contact_skip.rs` holds them so against asking both sides.
     fn probe_sides(&self, s: &Surface) -> [bool; 2] {
         let first = s.drives[0];
         if self.every

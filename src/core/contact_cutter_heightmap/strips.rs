@@ -77,10 +77,11 @@ pub(super) fn split_in_thirds(
 ///
 /// Whether a circle touches the rock is a yes/no reading of the height map
 /// (the rim inside the interpolated rock by micrometres; for a disc rolling
-/// along, on the side of the circle that drives alone, `Query::probe_sides`). Where the wall of
-/// a groove cut earlier (or by another part of a tilted disc) meets rock the
-/// disc is in, the answer switches within a hundredth of a cell of a node
-/// row, so sampling each slice at its middle switched the whole strip's
+/// along, on the side of the circle that drives alone,
+/// `Query::probe_sides`). Where the wall of a groove cut earlier (or by
+/// another part of a tilted disc) meets rock the disc is in, the answer
+/// switches within a hundredth of a cell of a node row, so sampling each
+/// slice at its middle switched the whole strip's
 /// load (a ninth of the tip) on or off as that middle crossed a node row.
 /// Here the edge of the contact is found by bisection between neighbouring
 /// samples (the slices' middles and the tip's edges) that answer

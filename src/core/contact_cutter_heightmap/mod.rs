@@ -360,9 +360,12 @@ impl<'a> Query<'a> {
     /// whole-arc part weighs 1 - moving = 0), so the sides that do not
     /// carry load (`Surface::drives`) are not walked (unless
     /// `numerics.walk_every_side`):
-    /// - on a rim slice, once the driving side has found an arc (so that
-    ///   whether the slice touches, and the disc is in contact, stays as
-    ///   walking both sides finds it): the trailing side of a rolling disc;
+    /// - on a rim slice, the trailing side of a rolling disc (rock it alone
+    ///   touches adds nothing to the load; until the twenty-first session
+    ///   it was walked where the driving side found no arc, so that whether
+    ///   the slice touched stayed as walking both sides found it: over an
+    ///   old groove's floor that searched the whole reach behind for
+    ///   nothing);
     /// - on a face circle (ring or flank band), once the rim touches: on a
     ///   gauge disc turning on its track, one side of each ring (its side
     ///   face turns into the wall ahead and away from it behind).
@@ -381,20 +384,19 @@ impl<'a> Query<'a> {
             return ([true; 2], None);
         };
         if self.motion.moving < 1.0 {
-            w.march_into(map, disc, Sides::Wanted([true; 2]), out);
+            w.march_into(map, disc, [true; 2], out);
             return ([true; 2], None);
         }
         let e = c.element(disc, &self.motion);
         let driving = e.driving();
         let d = w.sides_driving(&e, driving, DRIVE_SLIVER_CELLS * self.look / c.radius);
         let sides = if self.every || (c.face != 0.0 && !rim_touches) {
-            Sides::Wanted([true; 2])
-        } else if c.face != 0.0 {
-            Sides::Wanted(d)
-        } else if d[0] == d[1] {
-            Sides::Wanted([true; 2])
+            [true; 2]
+        } else if c.face == 0.0 && d[0] == d[1] {
+            // (a rim slice that drives on both sides, or on neither)
+            [true; 2]
         } else {
-            Sides::DrivingFirst(d)
+            d
         };
         w.march_into(map, disc, sides, out);
         (d, Some(driving))

@@ -382,17 +382,6 @@ impl Walk {
     }
 }
 
-/// The sides (`[+1, -1]`) of a circle [`SliceWalk::march_into`] walks.
-#[derive(Debug, Clone, Copy)]
-pub(super) enum Sides {
-    /// The sides marked.
-    Wanted([bool; 2]),
-    /// The side marked (one of them) alone, and the other too where that
-    /// one finds no arc (so that whether the slice touches stays as
-    /// walking both sides finds it).
-    DrivingFirst([bool; 2]),
-}
-
 /// One rim circle to walk (a tip slice, a side-face ring or a flank band):
 /// the circle at axle coordinate `y` of radius `radius`, from its lowest
 /// point `theta0` up to `reach` (at most half a turn) either way, in steps
@@ -439,7 +428,7 @@ impl SliceWalk {
         (rim, s, c, here0)
     }
 
-    /// Marches the sides `sides` asks for (`dir` = +1 towards cutter +x,
+    /// Marches the sides `wanted` (`dir` = +1 towards cutter +x,
     /// then -1) and brackets each contact arc's ends, written into `out`
     /// (`[+1, -1]`; a side not walked is `None`): the circle, the lowest
     /// point's sine and cosine and the rock over it read once. Each walk is
@@ -450,26 +439,13 @@ impl SliceWalk {
         &self,
         map: &HeightMap,
         disc: &PosedDisc,
-        sides: Sides,
+        wanted: [bool; 2],
         out: &mut [Option<Walk>; 2],
     ) {
         let side = self.sides(map, disc);
         let dir = |k: usize| if k == 0 { 1.0 } else { -1.0 };
-        match sides {
-            Sides::Wanted(wanted) => {
-                for (k, w) in out.iter_mut().enumerate() {
-                    *w = if wanted[k] { side(dir(k)) } else { None };
-                }
-            }
-            Sides::DrivingFirst(drive) => {
-                let first = usize::from(!drive[0]);
-                out[first] = side(dir(first));
-                out[1 - first] = if out[first].is_none() {
-                    side(dir(1 - first))
-                } else {
-                    None
-                };
-            }
+        for (k, w) in out.iter_mut().enumerate() {
+            *w = if wanted[k] { side(dir(k)) } else { None };
         }
     }
 

@@ -168,10 +168,9 @@ pub struct Numerics {
     /// Walk both sides of every circle of the disc's surface (`false`, the
     /// default: on a disc moving faster than the law's rest speed, a side
     /// that drives into the rock over no more than a sliver of its reach
-    /// carries no load and is not walked, once the other side has found
-    /// its arc (a rim slice) or the rim touches (a face circle), and the
-    /// edge search across the tip asks a rolling disc's circles about the
-    /// side all its slices drive on alone; see
+    /// carries no load and is not walked (a face circle's, once the rim
+    /// touches), and the edge search across the tip asks a rolling disc's
+    /// circles about the side all its slices drive on alone; see
     /// `contact_cutter_heightmap::contact`). Not an FMU parameter: a switch
     /// for the tests that hold the two equal.
     pub walk_every_side: bool,

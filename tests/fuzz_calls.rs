@@ -1274,7 +1274,7 @@ fn random_call_sequences_never_crash_hang_or_half_change() {
 
 /// The long soak: 20 000 sequences (about 3 million calls with the checks).
 #[test]
-#[ignore]
+#[ignore = "slow (the long soak, 20 000 sequences): cargo test --release --test fuzz_calls -- --ignored"]
 fn soak() {
     let n = env_u64("KERF_FUZZ_SEQUENCES").unwrap_or(20_000);
     let seed = env_u64("KERF_FUZZ_SEED").unwrap_or(1_000_000);

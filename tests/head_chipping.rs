@@ -201,7 +201,7 @@ fn neighbouring_tracks_break_their_ridge_out_and_it_stays_bounded() {
 /// The whole demo head, 5 revolutions from flat rock, with and without chips
 /// (about 4 minutes in release).
 #[test]
-#[ignore]
+#[ignore = "slow (the demo head 5 revolutions twice, minutes): cargo test --release --test head_chipping -- --ignored"]
 fn a_cutterhead_boring_with_chipping_keeps_its_face_level() {
     let mut on = demo(true, 1, None);
     let mut off = demo(false, 1, None);

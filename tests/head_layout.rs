@@ -156,6 +156,7 @@ fn shipped_layouts_parse() {
 #[test]
 fn default_params_keep_the_default_rock_square_at_any_dividing_cell() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
+    let mut n_layouts = 0;
     for e in std::fs::read_dir(&dir).unwrap() {
         let p = e.unwrap().path();
         if p.extension().is_some_and(|x| x == "json") {
@@ -170,6 +171,8 @@ fn default_params_keep_the_default_rock_square_at_any_dividing_cell() {
                     p.display()
                 );
             }
+            n_layouts += 1;
         }
     }
+    assert!(n_layouts >= 2, "layouts/ holds {n_layouts} layouts");
 }

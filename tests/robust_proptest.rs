@@ -176,12 +176,35 @@ proptest! {
     }
 }
 
+/// The table the property tests above draw from holds: each parameter has
+/// one row (so `bounds` finds that row), the defaults lie inside every
+/// range, and this file's setter for a row reaches the field
+/// `Params::validate` checks under that row's name: a value past either
+/// end of the range is refused naming that parameter and its range, and
+/// each end itself is not refused for its range.
 #[test]
 fn every_row_has_a_setter_and_a_range() {
+    Params::default().validate().unwrap();
+    let mut seen = std::collections::HashSet::new();
     for &(name, lo, hi) in PARAMETER_BOUNDS {
+        assert!(seen.insert(name), "{name} has two rows");
         assert!(lo <= hi, "{name}");
         assert_eq!(bounds(name), Some((lo, hi)));
-        let mut p = Params::default();
-        set(&mut p, name, lo);
+        for v in [lo - 1.0 - lo.abs(), hi + 1.0 + hi.abs()] {
+            let mut p = Params::default();
+            set(&mut p, name, v);
+            let msg = p.validate().expect_err(name).to_string();
+            assert!(
+                msg.contains(name) && msg.contains("allowed range"),
+                "{name} = {v}: {msg}"
+            );
+        }
+        for v in [lo, hi] {
+            let mut p = Params::default();
+            set(&mut p, name, v);
+            if let Err(e) = p.validate() {
+                assert!(!e.to_string().contains("allowed range"), "{name} = {v}: {e}");
+            }
+        }
     }
 }

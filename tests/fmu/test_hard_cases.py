@@ -31,13 +31,15 @@ discontinuities are exempt, and say so where they occur:
   * a second pass stops short of the end wall of the first groove, which has
     the rim's own shape and would be met by the whole leading arc at once.
 
-Cases that reveal a defect of the FMU are kept and marked xfail(strict=True)
-with the reproduction in the reason: contact starting late (with a jump) when
-rolling into the end face of the rock; the force not scaling with the width of
-tip on the rock when sliding off the side edge; ME's cuttingEnergy missing
-the friction work of a skidding cutter. (The trailing side of a rest pit
-driving a cutter that rolls away was one; the area law fixed it, and its
-case passes.)
+Cases that reveal a defect of the FMU are kept and marked xfail(strict=True,
+raises=AssertionError) by conftest.py, with the gap in the reason (README,
+"Contact law: known gaps"): the force below 1 mm deep, cuts of 1-10 um, and a
+step in the initial face. A fix then fails the run as an XPASS until its entry
+is removed. (Earlier defects found here, since fixed and passing: contact
+starting late when rolling into the rock's end face, the force not scaling
+with the tip's width on the rock when sliding off its side edge, ME's
+cuttingEnergy missing a skidding cutter's friction work, and the trailing
+side of a rest pit driving a cutter that rolls away.)
 
 Reference numbers (interface.md, thesis eqs 13-17): R = 0.2159 m, T = 0.013 m,
 p = 3.8 mm: F_N = 60795 N, F_R = 5728.5 N, F_t = 61065 N; friction mu = 0.3
@@ -114,32 +116,54 @@ def window(res, lo, hi, key="x"):
 
 # =========================================================================== first contact
 
-@pytest.mark.parametrize("kind", KINDS)
-def test_first_contact_while_rolling_force_rises_with_the_csm_law(fmu, kind):
+def descend_rolling(fmu, kind):
     """The cutter starts 1 mm above the face, rolls at 1 m/s and descends at
-    20 mm/s (20 um per mm of travel) to 4 mm deep.  Physics: no force while the
-    rim is above the face; after first touch the leading arc is in fresh rock
-    as deep as the lowest point, so F_N follows the CSM law F_N(p) with p the
-    depth of the lowest point, rising from 0 with the law's finite slope at
-    first touch (regularised below 50 um: 20 um gives 3.6 kN); the leading arc
-    resists rolling (rollingForce >= 0); symmetric tip, no side force."""
+    20 mm/s (20 um per mm of travel) to 4 mm deep: the run and the depth of
+    its lowest point."""
     ks = u.knots_line(dict(x=0.0, z=R + 1e-3), dict(ROLL, vz=-0.02), 0.25)
     res = u.run(kind, fmu, ks, H)
-    depth = R - res["z"]                                  # depth of the lowest point
-    p_geo = np.maximum(depth, 0.0)
-    check_history(res, f"{kind} descend rolling", p_geo, skip=0)
+    return res, R - res["z"]
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_first_contact_while_rolling_loads_the_rim_from_first_touch(fmu, kind):
+    """Descending while rolling (`descend_rolling`).  Physics: no force while
+    the rim is above the face; from first touch the leading arc is in fresh
+    rock and loaded (F_N > 0, rising from 0 with the law's finite slope,
+    regularised below 50 um) and resists rolling (rollingForce >= 0); from
+    1 mm deep, where the pressure level is the CSM calibration's own, F_N is
+    the CSM law F_N(p) of the lowest point's depth p, within 2.5 % (it dips
+    by 2.0 % at 1.4 mm, while the tip's outer slices join the contact, and
+    is within 0.02 % from 1.6 mm on; 4 mm deep at the end, within 0.5 %)."""
+    res, depth = descend_rolling(fmu, kind)
+    check_history(res, f"{kind} descend rolling", np.maximum(depth, 0.0), skip=0)
     above = depth < -1e-9
     assert above.sum() >= 40
     assert np.all(res["inContact"][above] == 0) and np.all(res["normalForce"][above] == 0)
     touching = depth > 2e-6
+    assert touching.sum() >= 150
     assert np.all(res["normalForce"][touching] > 0)
     assert np.all(res["rollingForce"][touching] >= -1e-6 * res["normalForce"][touching])
+    deep = depth >= 1e-3
+    assert deep.sum() >= 100
+    fn_csm = np.array([u.csm_force(p)["FN"] for p in depth[deep]])
+    err = np.max(np.abs(res["normalForce"][deep] / fn_csm - 1))
+    assert err < 0.025, f"{kind}: normal force strays {err:.2%} from CSM F_N(depth) from 1 mm"
+    assert res["normalForce"][-1] == pytest.approx(u.csm_force(depth[-1])["FN"], rel=5e-3)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_first_contact_while_rolling_force_follows_the_csm_law_from_0_2_mm(fmu, kind):
+    """Descending while rolling (`descend_rolling`).  Physics: after first
+    touch the leading arc is in fresh rock as deep as the lowest point, so F_N
+    follows the CSM law F_N(p) with p the depth of the lowest point from
+    0.2 mm on; symmetric tip, no side force.  A known gap (conftest.py)."""
+    res, depth = descend_rolling(fmu, kind)
     assert np.all(np.abs(res["sideForce"]) <= 1e-3 * np.abs(res["normalForce"]) + 1e-6)
     deep = depth > 0.2e-3
     fn_csm = np.array([u.csm_force(p)["FN"] for p in depth[deep]])
     err = np.max(np.abs(res["normalForce"][deep] / fn_csm - 1))
     assert err < 0.03, f"{kind}: normal force strays {err:.2%} from CSM F_N(depth) while descending"
-    assert res["normalForce"][-1] == pytest.approx(u.csm_force(depth[-1])["FN"], rel=5e-3)
 
 
 @pytest.mark.parametrize("kind", KINDS)

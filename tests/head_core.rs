@@ -267,6 +267,40 @@ fn one_disc_head_is_kerf_model() {
     }
 }
 
+/// A braked disc (spinning at half its rolling speed) in the disc drive
+/// ([`Head::spun_by_host`]) is kerf.fmu's Model bit for bit, friction along
+/// its path included: the host's spin counts, as the contract's per-disc
+/// inputs say. The head drive's freely turning disc takes up that slip
+/// itself and feels less rolling force by the friction of it (mu 0.3 of
+/// the rim force, near full sliding at 50 % slip).
+#[test]
+fn a_braked_disc_in_the_disc_drive_feels_the_friction_kerf_fmu_gives_it() {
+    let (head, mut model) = one_disc_head_and_model();
+    let mut head = head.spun_by_host();
+    let (mut free, _) = one_disc_head_and_model();
+    let mut pose = Pose::new(-0.2, 0.0, 0.2121, 0.0, 0.0, 0.0);
+    let twist = Twist::new([1.0, 0.0, 0.0], [0.0, 0.5 / 0.2159, 0.0]);
+    for _ in 0..30 {
+        let end = model.advance(&pose, &twist, 0.002).unwrap();
+        let ends = head.advance_discs(&[(pose, twist)], 0.002).unwrap();
+        free.advance_discs(&[(pose, twist)], 0.002).unwrap();
+        assert_eq!(end, ends[0]);
+        let om = model.evaluate(&end, &twist).unwrap();
+        let oh = head.evaluate_discs(&[(end, twist)]).unwrap();
+        assert_eq!(om.force, oh.discs[0].force);
+        assert_eq!(om.moment, oh.discs[0].moment);
+        assert_eq!(om.cutting_energy, oh.cutting_energy);
+        let of = free.evaluate_discs(&[(end, twist)]).unwrap();
+        let (braked, rolled) = (oh.discs[0].rolling_force, of.discs[0].rolling_force);
+        let rim = of.discs[0].normal_force.hypot(rolled);
+        assert!(
+            (braked - rolled - 0.3 * rim).abs() < 0.02 * rim,
+            "braked {braked}, turning freely {rolled}, rim force {rim}"
+        );
+        pose = end;
+    }
+}
+
 /// The same in Model Exchange: a one-disc head's commits are kerf.fmu's,
 /// the cutting energy included (the trapezoid between the outputs after the
 /// last commit and after this one), with the host evaluating other poses

@@ -203,7 +203,10 @@ fn every_row_has_a_setter_and_a_range() {
             let mut p = Params::default();
             set(&mut p, name, v);
             if let Err(e) = p.validate() {
-                assert!(!e.to_string().contains("allowed range"), "{name} = {v}: {e}");
+                assert!(
+                    !e.to_string().contains("allowed range"),
+                    "{name} = {v}: {e}"
+                );
             }
         }
     }

@@ -162,6 +162,14 @@ impl Disc {
         self
     }
 
+    /// The disc turns as its host spins it ([`Disc::turning_freely`]'s
+    /// opposite, kerf.fmu's disc): friction reads all the slip at the
+    /// contact, its part along the rim included.
+    pub fn spun_by_host(mut self) -> Self {
+        self.free = false;
+        self
+    }
+
     pub fn cutter(&self) -> &CutterParams {
         &self.cutter
     }

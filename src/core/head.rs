@@ -242,7 +242,10 @@ pub fn default_params(layout: &Layout, cell: f64) -> Params {
 
 impl Head {
     /// Checks the shared parameters and every disc (messages name
-    /// `cutter[i].key`), and builds the face.
+    /// `cutter[i].key`), and builds the face. The discs turn freely on
+    /// their bearings ([`Disc::turning_freely`]): the head drive gives each
+    /// the spin that rolls its nominal tip, and a tilted disc touching near
+    /// its tip's low edge takes up the rest itself.
     pub fn new(params: Params, specs: Vec<DiscSpec>) -> Result<Self> {
         if specs.is_empty() {
             return Err(KerfError::Layout("a head needs at least one disc".into()));
@@ -314,6 +317,17 @@ impl Head {
             state,
             placed: None,
         })
+    }
+
+    /// The discs turn as the host spins them, as kerf.fmu's disc does
+    /// ([`Disc::spun_by_host`]): the disc drive, whose per-disc inputs have
+    /// the single-disc contract's meaning, spin included. A multibody host
+    /// that carries each disc on its own bearing gets the friction that
+    /// spins it up or brakes it; fed the spin that rolls each disc's contact
+    /// (upright discs: their tip) it reads as the head drive.
+    pub fn spun_by_host(mut self) -> Self {
+        self.discs = self.discs.into_iter().map(Disc::spun_by_host).collect();
+        self
     }
 
     /// The parameters of disc `s` alone (what a kerf.fmu of it would have).

@@ -422,6 +422,10 @@ impl FmuModel for HeadModel {
             return Ok(Vec::new());
         }
         let mut head = Head::new(key.0.clone(), key.1.clone()).map_err(|e| e.to_string())?;
+        if self.drive == Drive::Discs {
+            // (the per-disc inputs are kerf.fmu's, spin included)
+            head = head.spun_by_host();
+        }
         head.steady_start(key.2[0]).map_err(|e| e.to_string())?;
         self.head = Some(head);
         self.head_key = Some(key);

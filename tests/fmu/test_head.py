@@ -154,6 +154,53 @@ def test_disc_drive_fed_the_placed_motions_agrees(head_fmu, discs_fmu, cs_run):
             np.mean(a(f"cutter[{i}].normalForce")[k:]), rel=0.03, abs=500.0), i
 
 
+def test_disc_drive_honours_the_hosts_spin(discs_fmu):
+    """The disc drive's inputs have kerf.fmu's meaning, spin included
+    (interface.md): a disc the host locks to the head (its spin removed)
+    skids along its path and feels full sliding friction there, mu = 0.3 of
+    its rim force more rolling force than fed the spin that rolls its tip;
+    its normal force and every other disc are unchanged (the cut does not
+    depend on the spin). The steady face, 10 steps of 5 ms."""
+    layout = discs_fmu.layout
+    locked = 3  # an upright face disc, in rock from the steady start
+    assert layout["cutters"][locked - 1].get("tiltDeg", 0) == 0
+    vz = -P_REV * W / (2 * math.pi)
+
+    def run(lock):
+        f = discs_fmu.steady_instance()
+        out = []
+        try:
+            for k in range(10):
+                t = k * H
+                vrs, vals = [], []
+                for i, (pose, tw) in enumerate(hh.placements(layout, W * t, vz * t, W, vz)):
+                    if lock and i + 1 == locked:
+                        tw = np.array([*tw[:3], 0.0, 0.0, W])
+                    for key, val in zip(["x", "y", "z", "yaw", "pitch", "roll", "vx", "vy", "vz",
+                                         "wx", "wy", "wz"], [*pose, *tw]):
+                        vrs.append(discs_fmu.vr[f"cutter[{i + 1}].{key}"])
+                        vals.append(float(val))
+                f.setReal(vrs, vals)
+                f.doStep(currentCommunicationPoint=t, communicationStepSize=H)
+                names = [f"cutter[{i}].{q}" for i in range(1, discs_fmu.n + 1)
+                         for q in ("normalForce", "rollingForce")]
+                out.append(f.getReal([discs_fmu.vr[q] for q in names]))
+        finally:
+            f.terminate()
+            f.freeInstance()
+        return np.array(out).reshape(10, discs_fmu.n, 2)
+
+    free, held = run(False), run(True)
+    j = locked - 1
+    assert np.all(free[:, j, 0] > 1e4)
+    rim = np.hypot(free[:, j, 0], free[:, j, 1])
+    extra = held[:, j, 1] - free[:, j, 1]
+    assert np.all(np.abs(extra - 0.3 * rim) < 0.02 * rim), (extra, rim)
+    assert np.allclose(held[:, j, 0], free[:, j, 0], rtol=0.02)
+    others = [i for i in range(discs_fmu.n) if i != j]
+    assert np.array_equal(held[:, others], free[:, others])
+
+
 def test_model_exchange_commits_every_disc(head_fmu, cs_run):
     from fmpy import simulate_fmu
 

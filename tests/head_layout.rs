@@ -69,7 +69,21 @@ fn bad_layouts_name_file_cutter_and_key() {
         ),
         (
             r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0}"#,
-            "layout bad.json: cutter 2: key \"spacing\": 0 is out of range (0, 1]",
+            "layout bad.json: cutter 2: key \"spacing\": 0 is out of range [0.001, 1]",
+        ),
+        // (the disc's own ranges are kerf.fmu's, `bounds.rs`: a layout that
+        // loads packages a head FMU that builds)
+        (
+            r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.0001}"#,
+            "layout bad.json: cutter 2: key \"spacing\": 0.0001 is out of range [0.001, 1]",
+        ),
+        (
+            r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08, "disc": {"radius": 0.01}}"#,
+            "layout bad.json: cutter 2: key \"disc.radius\": 0.01 is out of range [0.02, 2]",
+        ),
+        (
+            r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08, "disc": {"radius": 0.03, "tipRadius": 0.05, "tipWidth": 0.01}}"#,
+            "layout bad.json: cutter 2: key \"disc.tipRadius\": 0.05 must be smaller than radius = 0.03",
         ),
         (
             r#"{"track": 0.3, "angleDeg": "east", "tiltDeg": 0, "setback": 0, "spacing": 0.08}"#,
@@ -77,7 +91,7 @@ fn bad_layouts_name_file_cutter_and_key() {
         ),
         (
             r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08, "disc": {"radius": -1}}"#,
-            "layout bad.json: cutter 2: key \"disc.radius\": -1 is out of range (0, 1]",
+            "layout bad.json: cutter 2: key \"disc.radius\": -1 is out of range [0.02, 2]",
         ),
         (
             r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08, "disc": {"tipWidth": 0.03}}"#,
@@ -175,4 +189,54 @@ fn default_params_keep_the_default_rock_square_at_any_dividing_cell() {
         }
     }
     assert!(n_layouts >= 2, "layouts/ holds {n_layouts} layouts");
+}
+
+/// The head FMU's modelDescription gives each disc's own parameters the
+/// range the head checks them against (kerf.fmu's, `bounds.rs`), which is
+/// also what a layout may hold; no range of any parameter is missing a
+/// bound or NaN.
+#[test]
+fn the_head_fmus_disc_parameter_ranges_are_the_ones_it_accepts() {
+    use kerf::core::head::Drive;
+    use kerf::core::params::bounds;
+    use kerf::fmi2::head_md::{self, Ty};
+    let l = parse(EXAMPLE, "x.json").unwrap();
+    for drive in [Drive::Head, Drive::Discs] {
+        let vars = head_md::variables(&l, drive);
+        let mut checked = 0;
+        for (key, kerf) in [
+            ("radius", "cutter.radius"),
+            ("tipWidth", "cutter.tipWidth"),
+            ("tipRadius", "cutter.tipRadius"),
+            ("spacing", "csm.spacing"),
+        ] {
+            let (lo, hi) = bounds(kerf).unwrap();
+            for i in 1..=l.cutters.len() {
+                let name = format!("cutter[{i}].{key}");
+                let v = vars.iter().find(|v| v.name == name).expect(&name);
+                assert_eq!((v.min, v.max), (Some(lo), Some(hi)), "{name}");
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 4 * l.cutters.len());
+        for v in vars.iter().filter(|v| v.ty == Ty::Real) {
+            for b in [v.min, v.max].into_iter().flatten() {
+                assert!(!b.is_nan(), "{}: NaN bound", v.name);
+            }
+        }
+    }
+    // and a layout at those ends builds a head
+    let at = |r: f64, s: f64| {
+        let json = EXAMPLE
+            .replace("\"radius\": 0.2413", &format!("\"radius\": {r}"))
+            .replace("\"spacing\": 0.06", &format!("\"spacing\": {s}"));
+        let l = parse(&json, "x.json").unwrap();
+        let specs: Vec<DiscSpec> = l.cutters.iter().map(DiscSpec::from_layout).collect();
+        Head::new(Params::default(), specs).map(|_| ())
+    };
+    at(
+        bounds("cutter.radius").unwrap().0,
+        bounds("csm.spacing").unwrap().0,
+    )
+    .unwrap();
 }

@@ -74,21 +74,20 @@ const SETBACK: Range = Range {
     hi: 0.5,
     open_lo: false,
 };
-const SPACING: Range = Range {
-    lo: 0.0,
-    hi: 1.0,
-    open_lo: true,
-};
-const RADIUS: Range = Range {
-    lo: 0.0,
-    hi: 1.0,
-    open_lo: true,
-};
-const TIP: Range = Range {
-    lo: 0.0,
-    hi: 0.2,
-    open_lo: true,
-};
+
+/// The range of the disc's own parameter `name` in [`PARAMETER_BOUNDS`]
+/// (`cutter.radius`, `csm.spacing`, ...): a layout takes what a kerf.fmu of
+/// the disc would, so a head FMU it packages builds.
+///
+/// [`PARAMETER_BOUNDS`]: crate::core::params::PARAMETER_BOUNDS
+fn disc_range(name: &str) -> Range {
+    let (lo, hi) = crate::core::params::bounds(name).expect("a disc parameter has a bounds row");
+    Range {
+        lo,
+        hi,
+        open_lo: false,
+    }
+}
 
 /// The largest head a layout may describe (cutters).
 pub const MAX_CUTTERS: usize = 500;
@@ -175,11 +174,33 @@ impl Ctx<'_> {
             }
         };
         let c = CutterParams {
-            radius: get("radius", &RADIUS, base.map(|b| b.radius))?,
-            tip_width: get("tipWidth", &TIP, base.map(|b| b.tip_width))?,
-            tip_radius: get("tipRadius", &TIP, base.map(|b| b.tip_radius))?,
+            radius: get(
+                "radius",
+                &disc_range("cutter.radius"),
+                base.map(|b| b.radius),
+            )?,
+            tip_width: get(
+                "tipWidth",
+                &disc_range("cutter.tipWidth"),
+                base.map(|b| b.tip_width),
+            )?,
+            tip_radius: get(
+                "tipRadius",
+                &disc_range("cutter.tipRadius"),
+                base.map(|b| b.tip_radius),
+            )?,
             ..CutterParams::default()
         };
+        if c.tip_radius >= c.radius {
+            return Err(self.err(
+                cutter,
+                "disc.tipRadius",
+                format!(
+                    "{} must be smaller than radius = {}",
+                    c.tip_radius, c.radius
+                ),
+            ));
+        }
         if c.tip_width > 2.0 * c.tip_radius {
             return Err(self.err(
                 cutter,
@@ -282,7 +303,7 @@ pub fn parse(text: &str, file: &str) -> Result<Layout> {
             angle_deg: cx.number(o, i, "angleDeg", &ANGLE)?,
             tilt_deg: cx.number(o, i, "tiltDeg", &TILT)?,
             setback: cx.number(o, i, "setback", &SETBACK)?,
-            spacing: cx.number(o, i, "spacing", &SPACING)?,
+            spacing: cx.number(o, i, "spacing", &disc_range("csm.spacing"))?,
             disc: match o.get("disc") {
                 None => disc,
                 Some(v) => cx.disc(v, i, Some(disc))?,

@@ -99,7 +99,10 @@ type ParamRow = (
     &'static str,
 );
 
-/// Per-disc parameters: name, unit, display unit, min, max, meaning.
+/// Per-disc parameters: name, unit, display unit, min, max, meaning. The
+/// disc's own parameters (`spacing`, `radius`, `tipWidth`, `tipRadius`) take
+/// kerf.fmu's range of the same parameter from `bounds.rs` instead of a
+/// range of their own (theirs here are NaN; [`disc_param_range`]).
 pub const DISC_PARAMS: [ParamRow; 8] = [
     (
         "track",
@@ -137,28 +140,47 @@ pub const DISC_PARAMS: [ParamRow; 8] = [
         "spacing",
         "m",
         Some("mm"),
-        0.0,
-        1.0,
+        f64::NAN,
+        f64::NAN,
         "spacing S of this disc's CSM law",
     ),
-    ("radius", "m", Some("mm"), 0.0, 2.0, "disc radius R"),
+    (
+        "radius",
+        "m",
+        Some("mm"),
+        f64::NAN,
+        f64::NAN,
+        "disc radius R",
+    ),
     (
         "tipWidth",
         "m",
         Some("mm"),
-        0.0,
-        0.2,
+        f64::NAN,
+        f64::NAN,
         "tip width T (must not exceed 2 * tipRadius)",
     ),
     (
         "tipRadius",
         "m",
         Some("mm"),
-        0.0,
-        0.2,
-        "radius r of the tip profile",
+        f64::NAN,
+        f64::NAN,
+        "radius r of the tip profile (smaller than radius)",
     ),
 ];
+
+/// The range of per-disc parameter `row` ([`DISC_PARAMS`]): kerf.fmu's for
+/// the disc's own parameters (`PER_DISC`: what the head checks each disc
+/// against, and what a layout may hold), the row's own for its mount.
+fn disc_param_range(row: &ParamRow) -> (f64, f64) {
+    PER_DISC
+        .iter()
+        .find(|n| n.rsplit('.').next() == Some(row.0))
+        .map_or((row.3, row.4), |n| {
+            crate::core::params::bounds(n).expect("a per-disc parameter has a bounds row")
+        })
+}
 
 /// Per-disc outputs: name, unit, display unit, meaning.
 pub const DISC_OUTPUTS: [(&str, &str, Option<&str>, &str); 11] = [
@@ -497,8 +519,9 @@ fn disc_parameters(i: usize, c: &CutterSpec, s: &DiscSpec) -> impl Iterator<Item
     DISC_PARAMS.iter().enumerate().map(move |(k, row)| {
         let name = format!("cutter[{n}].{}", row.0);
         let what = format!("Disc {n}: {}", row.5);
+        let (lo, hi) = disc_param_range(row);
         parameter(
-            row,
+            &(row.0, row.1, row.2, lo, hi, row.5),
             name,
             disc_vr(i, PARAM_BASE + k),
             Slot::DiscParam(i, k),

@@ -106,6 +106,26 @@ fn bad_layouts_name_file_cutter_and_key() {
         let got = err(&with_cutter(c));
         assert!(got.starts_with(want), "\n got: {got}\nwant: {want}...");
     }
+    // a key given twice (serde_json's Value would keep the last silently)
+    let got = err(&with_cutter(
+        r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08, "spacing": 0.09}"#,
+    ));
+    assert!(
+        got.starts_with("layout bad.json: not valid JSON: key \"spacing\" given twice at line"),
+        "{got}"
+    );
+    let got = err(&with_cutter(
+        r#"{"track": 0.3, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08, "disc": {"radius": 0.2, "radius": 0.3}}"#,
+    ));
+    assert!(got.contains("key \"radius\" given twice"), "{got}");
+    // a number past f64's range
+    let got = err(&with_cutter(
+        r#"{"track": 1e400, "angleDeg": 0, "tiltDeg": 0, "setback": 0, "spacing": 0.08}"#,
+    ));
+    assert!(
+        got.starts_with("layout bad.json: not valid JSON: number out of range at line"),
+        "{got}"
+    );
     // head-level keys
     assert!(
         err(r#"{"disc": {}, "cutters": []}"#).starts_with("layout bad.json: key \"name\": missing")

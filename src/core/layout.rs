@@ -233,10 +233,75 @@ fn rename(e: KerfError, from: &str, to: &str) -> KerfError {
     }
 }
 
+/// A JSON value whose objects hold no key twice: serde_json's `Value`
+/// keeps the last of a repeated key and drops the rest without a word, so
+/// a layout that gave a cutter's `spacing` twice would take one silently.
+struct NoRepeats(Value);
+
+impl<'de> serde::Deserialize<'de> for NoRepeats {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        d.deserialize_any(NoRepeatsVisitor).map(NoRepeats)
+    }
+}
+
+struct NoRepeatsVisitor;
+
+impl<'de> serde::de::Visitor<'de> for NoRepeatsVisitor {
+    type Value = Value;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a JSON value")
+    }
+    fn visit_bool<E>(self, v: bool) -> std::result::Result<Value, E> {
+        Ok(Value::Bool(v))
+    }
+    fn visit_i64<E>(self, v: i64) -> std::result::Result<Value, E> {
+        Ok(Value::from(v))
+    }
+    fn visit_u64<E>(self, v: u64) -> std::result::Result<Value, E> {
+        Ok(Value::from(v))
+    }
+    fn visit_f64<E>(self, v: f64) -> std::result::Result<Value, E> {
+        Ok(Value::from(v))
+    }
+    fn visit_str<E>(self, v: &str) -> std::result::Result<Value, E> {
+        Ok(Value::String(v.to_string()))
+    }
+    fn visit_unit<E>(self) -> std::result::Result<Value, E> {
+        Ok(Value::Null)
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(
+        self,
+        mut seq: A,
+    ) -> std::result::Result<Value, A::Error> {
+        let mut v = Vec::new();
+        while let Some(NoRepeats(x)) = seq.next_element()? {
+            v.push(x);
+        }
+        Ok(Value::Array(v))
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(
+        self,
+        mut map: A,
+    ) -> std::result::Result<Value, A::Error> {
+        let mut m = Map::new();
+        while let Some(key) = map.next_key::<String>()? {
+            let NoRepeats(x) = map.next_value()?;
+            if m.contains_key(&key) {
+                return Err(serde::de::Error::custom(format_args!(
+                    "key \"{key}\" given twice"
+                )));
+            }
+            m.insert(key, x);
+        }
+        Ok(Value::Object(m))
+    }
+}
+
 /// Parses and checks a layout; `file` names it in the messages.
 pub fn parse(text: &str, file: &str) -> Result<Layout> {
     let cx = Ctx { file };
-    let root: Value =
+    let NoRepeats(root) =
         serde_json::from_str(text).map_err(|e| cx.err(None, "", format!("not valid JSON: {e}")))?;
     let obj = root
         .as_object()

@@ -601,3 +601,65 @@ fn a_box_leaves_out_only_nodes_the_disc_has_risen_from() {
         "{boxes} boxes, {left_out} nodes"
     );
 }
+
+/// Tilted discs on tracks of metres, descending as a head bores (6 mm a
+/// revolution), leaning either way. Leaning out from the track's centre (a
+/// head's gauge disc; roll -60 deg here) the lower side face turns into the
+/// wall just behind the lowest point and away from it further back, so the
+/// box is shortened at its near end to where the face turns away and leaves
+/// out the whole core, the face's plan too (the hole that a box of the whole
+/// length must walk is most of a gauge disc's window); leaning in, the face
+/// turns into the wall along the whole box and is walked. Node by node on a
+/// 0.25 mm grid, every node left out lies where the disc rose, and nodes
+/// over the lower face are left out (so the shortened box is what is held:
+/// without it, none are).
+#[test]
+fn a_descending_gauge_discs_box_leaves_out_its_lower_face_only_where_it_rose() {
+    use kerf::core::cut_cutter_heightmap::Back;
+    use kerf::core::cutter::PosedDisc;
+    let p = prm();
+    let posed = |pose: &Pose| PosedDisc::new(&p.cutter, pose);
+    let mut over_face = 0usize;
+    for (roll, radius) in [
+        (60.0f64, 4.83),
+        (52.0, 4.73),
+        (45.0, 4.6),
+        (-60.0, 4.83),
+        (30.0, 4.4),
+    ] {
+        let track = tilted_arc(&p, roll, radius);
+        // 1 mm of travel, the head boring 6 mm a revolution of this track
+        let descent = 0.006 * 1e-3 / (std::f64::consts::TAU * radius);
+        let p1 = track.pose(0.101);
+        let p1 = Pose::from_rotation(
+            p1.position - nalgebra::Vector3::z() * descent,
+            &p1.rotation(),
+        );
+        let (d0, d1) = (posed(&track.pose(0.1)), posed(&p1));
+        let back = Back::of(&d0, None, &d1).expect("a box");
+        let g = plan_grid(&d1, 0.25e-3);
+        for j in 0..g.ny {
+            for i in 0..g.nx {
+                if !back.leaves_out(&g, i, j) {
+                    continue;
+                }
+                let (x, y) = g.node_xy(i, j);
+                let (z0, face) = d0
+                    .lower_boundary(x, y)
+                    .expect("left out, not under the last solid");
+                if let Some((z1, _)) = d1.lower_boundary(x, y) {
+                    assert!(
+                        z1 >= z0 - 1e-12,
+                        "roll {roll}: ({x:.5}, {y:.5}) left out, the disc fell {:e} m there",
+                        z0 - z1
+                    );
+                }
+                over_face += usize::from(matches!(face, kerf::core::cutter::Face::Side(_)));
+            }
+        }
+    }
+    assert!(
+        over_face > 100_000,
+        "{over_face} nodes over a side face left out"
+    );
+}

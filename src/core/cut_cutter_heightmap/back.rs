@@ -198,14 +198,18 @@ impl Back {
     ///   the distance behind), `n . V <= 0` from `s' <= -b'`, `b' = (N_l
     ///   d_l + max(-t_z, 0)) / (cos(psi_max) D_min / R - N_l k)`;
     /// - on the lower side face `n = -sign(a_z) a`, and `n . V` is checked
-    ///   at the box's corners: the face moving in its own plane or away from
-    ///   the rock under it (a turn one way). The other way, or a tilted disc
-    ///   diving or crabbing into its lower face's side, the nodes over the
-    ///   face are walked (the [`Core`]'s hole: the face's plan, an ellipse,
-    ///   over which the lower boundary is the face), and only those over the
-    ///   tip are left out. A gauge cutter leaning out from its head's axis
-    ///   turns that way: the back of its lower face swings out into the
-    ///   wall it shaves, while its tip's back still rises from its groove.
+    ///   at the box's corners (it is affine in the place, so they bound it):
+    ///   the face moving in its own plane or away from the rock under it (a
+    ///   turn one way). Where it moves into the rock at the box's near end
+    ///   only, the box is shortened at that end to where `n . V` changes
+    ///   sign along its edges, if at least half of it is left: a gauge disc
+    ///   leaning out from its head's axis, descending as the head bores, has
+    ///   its lower face turn into the wall within a millimetre or so behind
+    ///   its lowest point and away from it further back. Otherwise (a turn
+    ///   the other way, or a tilted disc diving or crabbing into its lower
+    ///   face's side) the nodes over the face are walked (the [`Core`]'s
+    ///   hole: the face's plan, an ellipse, over which the lower boundary is
+    ///   the face), and only those over the tip are left out.
     ///
     /// The box is taken in the last pose's frame, and only its part inside
     /// the plan of the last solid's core ([`Core`]: the two tip edges'
@@ -288,12 +292,44 @@ impl Back {
         if b >= far {
             return None;
         }
-        let s = [-far, -b];
-        // the lower side face moves in its plane or away from the rock
+        let mut s = [-far, -b];
+        // the lower side face moves in its plane or away from the rock:
+        // `n . V` at each corner (affine in the place, so the corners bound
+        // it over the box)
         let lower = -ax_z.signum();
-        let face_clear = corners(s, half)
-            .iter()
-            .all(|&(_, d_l)| lower * (ax_l * d_l + ax_z * t_z) <= 1e-13 * ax_z.abs());
+        let tol = 1e-13 * ax_z.abs();
+        let face_moves =
+            |s: [f64; 2]| corners(s, half).map(|(_, d_l)| lower * (ax_l * d_l + ax_z * t_z));
+        let clear = |v: [f64; 4]| v.iter().all(|&x| x <= tol);
+        let mut face_clear = clear(face_moves(s));
+        if !face_clear {
+            // `n . V` is affine along the box too: where it is positive at
+            // the near end only, the face is clear behind the place along
+            // each edge where it changes sign, and the box shortened to
+            // there leaves out the whole core (the face's plan too), where
+            // the hole below would walk all of the face's (the gauge discs
+            // of a head turning: n . V falls from 1e-7 at the near end to
+            // -8e-6 at the far one, the sign changing a millimetre behind)
+            let v = face_moves(s);
+            // corners: [(far, -), (far, +), (near, -), (near, +)]
+            let mut near = s[1];
+            for (v_far, v_near) in [(v[0], v[2]), (v[1], v[3])] {
+                if v_near > 0.0 {
+                    near = if v_far < 0.0 {
+                        near.min(s[1] - (s[1] - s[0]) * v_near / (v_near - v_far))
+                    } else {
+                        s[0]
+                    };
+                }
+            }
+            // (a margin of a part in 1e6 of the box, and the corners checked
+            // again as they stand)
+            let short = [s[0], near - 1e-6 * (s[1] - s[0])];
+            if short[1] - short[0] >= 0.5 * (s[1] - s[0]) && clear(face_moves(short)) {
+                s = short;
+                face_clear = true;
+            }
+        }
         if !face_clear {
             // (the lower face lies at y = -h sign(a_z) on the axle)
             core.hole = Some(Hole {

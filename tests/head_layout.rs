@@ -260,3 +260,41 @@ fn the_head_fmus_disc_parameter_ranges_are_the_ones_it_accepts() {
     )
     .unwrap();
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 2000, ..Default::default() })]
+
+    /// Any corruption of a layout file (bytes overwritten, cut short or
+    /// repeated) is read or refused, never a panic, and every refusal names
+    /// the file; whatever is read holds only cutters a head accepts.
+    #[test]
+    fn corrupt_layouts_are_refused_naming_the_file(
+        edits in proptest::collection::vec((0usize..10_000, proptest::prelude::any::<u8>()), 0..6),
+        cut in 0usize..10_000,
+        mode in 0u8..3,
+    ) {
+        let mut b = EXAMPLE.as_bytes().to_vec();
+        for &(k, x) in &edits {
+            let n = b.len();
+            b[k % n] = x;
+        }
+        match mode {
+            0 => b.truncate(cut % (b.len() + 1)),
+            1 => {
+                let n = b.len();
+                let s = cut % n;
+                let piece = b[s..(s + 40).min(n)].to_vec();
+                b.splice(s..s, piece);
+            }
+            _ => {}
+        }
+        let text = String::from_utf8_lossy(&b);
+        match parse(&text, "x.json") {
+            Err(e) => proptest::prop_assert!(e.to_string().starts_with("layout x.json: "), "{e}"),
+            Ok(l) => {
+                let specs: Vec<DiscSpec> = l.cutters.iter().map(DiscSpec::from_layout).collect();
+                proptest::prop_assert!(Head::new(Params::default(), specs).is_ok());
+            }
+        }
+    }
+}

@@ -102,7 +102,7 @@ type ParamRow = (
 /// Per-disc parameters: name, unit, display unit, min, max, meaning. The
 /// disc's own parameters (`spacing`, `radius`, `tipWidth`, `tipRadius`) take
 /// kerf.fmu's range of the same parameter from `bounds.rs` instead of a
-/// range of their own (theirs here are NaN; [`disc_param_range`]).
+/// range of their own (theirs here are NaN; `disc_param_range`).
 pub const DISC_PARAMS: [ParamRow; 8] = [
     (
         "track",

@@ -89,98 +89,97 @@ pub const INPUTS: [(&str, &str, Option<&str>, &str); 12] = [
     ("wz", "rad/s", None, "angular velocity about rock z"),
 ];
 
-/// A parameter's name, unit, display unit, min, max and meaning.
+/// A parameter's name, unit, display unit, range and meaning.
 type ParamRow = (
     &'static str,
     &'static str,
     Option<&'static str>,
-    f64,
-    f64,
+    ParamRange,
     &'static str,
 );
 
-/// Per-disc parameters: name, unit, display unit, min, max, meaning. The
+/// A head parameter's `[min, max]`: its own, or kerf.fmu's row in
+/// `bounds.rs` for the parameter of that name (a disc's own parameters,
+/// which the head checks each disc against and a layout may hold).
+#[derive(Debug, Clone, Copy)]
+pub enum ParamRange {
+    Own(f64, f64),
+    Kerf(&'static str),
+}
+
+impl ParamRange {
+    fn bounds(self) -> (f64, f64) {
+        match self {
+            ParamRange::Own(lo, hi) => (lo, hi),
+            ParamRange::Kerf(name) => {
+                crate::core::params::bounds(name).expect("a kerf parameter has a bounds row")
+            }
+        }
+    }
+}
+
+/// Per-disc parameters: name, unit, display unit, range, meaning. The
 /// disc's own parameters (`spacing`, `radius`, `tipWidth`, `tipRadius`) take
-/// kerf.fmu's range of the same parameter from `bounds.rs` instead of a
-/// range of their own (theirs here are NaN; `disc_param_range`).
+/// kerf.fmu's range of the same parameter ([`ParamRange::Kerf`]): they are
+/// kerf.fmu's parameters that are per disc in a head.
 pub const DISC_PARAMS: [ParamRow; 8] = [
     (
         "track",
         "m",
         Some("mm"),
-        0.0,
-        10.0,
+        ParamRange::Own(0.0, 10.0),
         "distance of the disc tip from the head axis",
     ),
     (
         "angle",
         "rad",
         Some("deg"),
-        -4.0 * std::f64::consts::PI,
-        4.0 * std::f64::consts::PI,
+        ParamRange::Own(-4.0 * std::f64::consts::PI, 4.0 * std::f64::consts::PI),
         "angle of the tip about the head axis, from head +x towards +y",
     ),
     (
         "tilt",
         "rad",
         Some("deg"),
-        -1.3089969389957472,
-        1.3089969389957472,
+        ParamRange::Own(-1.3089969389957472, 1.3089969389957472),
         "tilt of the disc, tip leaning outwards (gauge cutters), within +-75 deg",
     ),
     (
         "setback",
         "m",
         Some("mm"),
-        -0.5,
-        0.5,
+        ParamRange::Own(-0.5, 0.5),
         "tip set back from the face-cutter plane along head +z",
     ),
     (
         "spacing",
         "m",
         Some("mm"),
-        f64::NAN,
-        f64::NAN,
+        ParamRange::Kerf("csm.spacing"),
         "spacing S of this disc's CSM law",
     ),
     (
         "radius",
         "m",
         Some("mm"),
-        f64::NAN,
-        f64::NAN,
+        ParamRange::Kerf("cutter.radius"),
         "disc radius R",
     ),
     (
         "tipWidth",
         "m",
         Some("mm"),
-        f64::NAN,
-        f64::NAN,
+        ParamRange::Kerf("cutter.tipWidth"),
         "tip width T (must not exceed 2 * tipRadius)",
     ),
     (
         "tipRadius",
         "m",
         Some("mm"),
-        f64::NAN,
-        f64::NAN,
+        ParamRange::Kerf("cutter.tipRadius"),
         "radius r of the tip profile (smaller than radius)",
     ),
 ];
-
-/// The range of per-disc parameter `row` ([`DISC_PARAMS`]): kerf.fmu's for
-/// the disc's own parameters (`PER_DISC`: what the head checks each disc
-/// against, and what a layout may hold), the row's own for its mount.
-fn disc_param_range(row: &ParamRow) -> (f64, f64) {
-    PER_DISC
-        .iter()
-        .find(|n| n.rsplit('.').next() == Some(row.0))
-        .map_or((row.3, row.4), |n| {
-            crate::core::params::bounds(n).expect("a per-disc parameter has a bounds row")
-        })
-}
 
 /// Per-disc outputs: name, unit, display unit, meaning.
 pub const DISC_OUTPUTS: [(&str, &str, Option<&str>, &str); 11] = [
@@ -275,19 +274,18 @@ pub const HEAD_PARAMS: [(u32, ParamRow); 1] = [(
         "head.steadyPenetration",
         "m",
         Some("mm"),
-        0.0,
-        0.05,
+        ParamRange::Own(0.0, 0.05),
         "Steady start: 0 starts from the flat face; p > 0 pre-cuts the face as if the head had bored at p per revolution (wz > 0) for ever, ridges fully relieved, each track's annulus on the helix its last disc left (docs/head.md)",
     ),
 )];
 
-/// kerf parameters that are per disc in a head.
-const PER_DISC: [&str; 4] = [
-    "cutter.radius",
-    "cutter.tipWidth",
-    "cutter.tipRadius",
-    "csm.spacing",
-];
+/// Whether kerf.fmu's parameter `name` is per disc in a head (one of
+/// [`DISC_PARAMS`], by its kerf range).
+fn per_disc(name: &str) -> bool {
+    DISC_PARAMS
+        .iter()
+        .any(|row| matches!(row.3, ParamRange::Kerf(n) if n == name))
+}
 
 /// Value reference of disc `i` (0-based), entry `k`.
 pub fn disc_vr(i: usize, k: usize) -> u32 {
@@ -496,7 +494,7 @@ fn head_parameters() -> impl Iterator<Item = HeadVar> {
             row.0.to_string(),
             *vr,
             Slot::HeadParam(k),
-            row.5.to_string(),
+            row.4.to_string(),
         )
         .start("0")
     })
@@ -518,10 +516,9 @@ fn disc_parameters(i: usize, c: &CutterSpec, s: &DiscSpec) -> impl Iterator<Item
     ];
     DISC_PARAMS.iter().enumerate().map(move |(k, row)| {
         let name = format!("cutter[{n}].{}", row.0);
-        let what = format!("Disc {n}: {}", row.5);
-        let (lo, hi) = disc_param_range(row);
+        let what = format!("Disc {n}: {}", row.4);
         parameter(
-            &(row.0, row.1, row.2, lo, hi, row.5),
+            row,
             name,
             disc_vr(i, PARAM_BASE + k),
             Slot::DiscParam(i, k),
@@ -590,23 +587,24 @@ fn disc_outputs(i: usize) -> impl Iterator<Item = HeadVar> {
     ))
 }
 
-/// A fixed Real parameter of `row` (name, unit, display unit, min, max,
+/// A fixed Real parameter of `row` (name, unit, display unit, range,
 /// meaning) as `name`, described `what`.
 fn parameter(row: &ParamRow, name: String, vr: u32, slot: Slot, what: String) -> HeadVar {
-    let (_, unit, du, lo, hi, _) = *row;
+    let (_, unit, du, range, _) = *row;
+    let (lo, hi) = range.bounds();
     HeadVar::real(name, vr, slot, Causality::Parameter, (unit, du), what)
         .variability(Variability::Fixed)
         .range(lo, hi)
 }
 
 /// kerf.fmu's parameters that every disc of a head shares, in kerf's order
-/// (not the per-disc ones, `PER_DISC`), with kerf's value references; the
+/// (not the per-disc ones, [`per_disc`]), with kerf's value references; the
 /// rock's extent starts from the layout's default face.
 fn shared_parameters(layout: &Layout) -> Vec<HeadVar> {
     let rock = rock_starts(layout);
     let mut shared: Vec<(usize, HeadVar)> = Vec::new();
     let mut add = |index: usize, name: &str, vr: u32, ty: Ty, c: Causality| {
-        if c != Causality::Parameter || PER_DISC.contains(&name) {
+        if c != Causality::Parameter || per_disc(name) {
             return;
         }
         let mut var = HeadVar::plain(name, vr, ty, (c, Variability::Fixed), Slot::Kerf);

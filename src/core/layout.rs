@@ -47,33 +47,22 @@ pub struct Layout {
     pub cutters: Vec<CutterSpec>,
 }
 
-/// Ranges of the numbers (inclusive unless `open_lo`).
+/// Ranges of the numbers (inclusive).
 struct Range {
     lo: f64,
     hi: f64,
-    open_lo: bool,
 }
 
-const TRACK: Range = Range {
-    lo: 0.0,
-    hi: 10.0,
-    open_lo: false,
-};
+const TRACK: Range = Range { lo: 0.0, hi: 10.0 };
 const ANGLE: Range = Range {
     lo: -720.0,
     hi: 720.0,
-    open_lo: false,
 };
 const TILT: Range = Range {
     lo: -75.0,
     hi: 75.0,
-    open_lo: false,
 };
-const SETBACK: Range = Range {
-    lo: -0.5,
-    hi: 0.5,
-    open_lo: false,
-};
+const SETBACK: Range = Range { lo: -0.5, hi: 0.5 };
 
 /// The range of the disc's own parameter `name` in [`PARAMETER_BOUNDS`]
 /// (`cutter.radius`, `csm.spacing`, ...): a layout takes what a kerf.fmu of
@@ -82,11 +71,7 @@ const SETBACK: Range = Range {
 /// [`PARAMETER_BOUNDS`]: crate::core::params::PARAMETER_BOUNDS
 fn disc_range(name: &str) -> Range {
     let (lo, hi) = crate::core::params::bounds(name).expect("a disc parameter has a bounds row");
-    Range {
-        lo,
-        hi,
-        open_lo: false,
-    }
+    Range { lo, hi }
 }
 
 /// The largest head a layout may describe (cutters).
@@ -118,17 +103,11 @@ impl Ctx<'_> {
         let x = v
             .as_f64()
             .ok_or_else(|| self.err(cutter, key, format!("must be a number, got {v}")))?;
-        let lo_ok = if r.open_lo { x > r.lo } else { x >= r.lo };
-        if !(x.is_finite() && lo_ok && x <= r.hi) {
+        if !(x.is_finite() && x >= r.lo && x <= r.hi) {
             return Err(self.err(
                 cutter,
                 key,
-                format!(
-                    "{x} is out of range {}{}, {}]",
-                    if r.open_lo { "(" } else { "[" },
-                    r.lo,
-                    r.hi
-                ),
+                format!("{x} is out of range [{}, {}]", r.lo, r.hi),
             ));
         }
         Ok(x)

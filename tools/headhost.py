@@ -177,7 +177,11 @@ class HeadFMU:
                "penetration"]
         return tot + [f"cutter[{i + 1}].{k}" for i in range(self.n) for k in per]
 
-    def set_motion(self, f, t, w, vz):
+    def set_motion(self, f, t, w, vz, twist_of=None):
+        """Sets the head's motion at `t` (turning at `w`, advancing at
+        `vz`); in the disc drive, each disc's placed pose and twist, the
+        twist of disc `i` (0-based) replaced by `twist_of(i, twist)` if
+        given."""
         yaw, zh = w * t, vz * t
         if self.drive == "head":
             names = ["yaw", "z", "wz", "vz"]
@@ -185,6 +189,8 @@ class HeadFMU:
         else:
             vrs, vals = [], []
             for i, (pose, tw) in enumerate(placements(self.layout, yaw, zh, w, vz)):
+                if twist_of is not None:
+                    tw = twist_of(i, tw)
                 for k, val in zip(["x", "y", "z", "yaw", "pitch", "roll", "vx", "vy", "vz", "wx",
                                    "wy", "wz"], [*pose, *tw]):
                     vrs.append(self.vr[f"cutter[{i + 1}].{k}"])

@@ -166,21 +166,16 @@ def test_disc_drive_honours_the_hosts_spin(discs_fmu):
     assert layout["cutters"][locked - 1].get("tiltDeg", 0) == 0
     vz = -P_REV * W / (2 * math.pi)
 
+    def locked_to_the_head(i, tw):
+        return np.array([*tw[:3], 0.0, 0.0, W]) if i + 1 == locked else tw
+
     def run(lock):
         f = discs_fmu.steady_instance()
         out = []
         try:
             for k in range(10):
                 t = k * H
-                vrs, vals = [], []
-                for i, (pose, tw) in enumerate(hh.placements(layout, W * t, vz * t, W, vz)):
-                    if lock and i + 1 == locked:
-                        tw = np.array([*tw[:3], 0.0, 0.0, W])
-                    for key, val in zip(["x", "y", "z", "yaw", "pitch", "roll", "vx", "vy", "vz",
-                                         "wx", "wy", "wz"], [*pose, *tw]):
-                        vrs.append(discs_fmu.vr[f"cutter[{i + 1}].{key}"])
-                        vals.append(float(val))
-                f.setReal(vrs, vals)
+                discs_fmu.set_motion(f, t, W, vz, locked_to_the_head if lock else None)
                 f.doStep(currentCommunicationPoint=t, communicationStepSize=H)
                 names = [f"cutter[{i}].{q}" for i in range(1, discs_fmu.n + 1)
                          for q in ("normalForce", "rollingForce")]

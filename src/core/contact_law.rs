@@ -411,7 +411,12 @@ impl Element {
     /// The surface point at angle `t`, cutter frame.
     #[inline]
     pub fn point(&self, t: f64) -> Vector3<f64> {
-        let (s, c) = t.sin_cos();
+        self.point_sc(t.sin_cos())
+    }
+
+    /// [`Element::point`] at the angle whose `sin_cos` is `(s, c)`.
+    #[inline]
+    pub fn point_sc(&self, (s, c): (f64, f64)) -> Vector3<f64> {
         Vector3::new(self.radius * s, self.y, -self.radius * c)
     }
 
@@ -627,12 +632,21 @@ pub fn pressure_level(
         if pk <= 0.0 {
             continue;
         }
-        let phi = ((rho - pk) / rho).clamp(-1.0, 1.0).acos();
+        let cos_phi = ((rho - pk) / rho).clamp(-1.0, 1.0);
+        let phi = cos_phi.acos();
         let e = Element::rim(disc, y, dy, &still);
-        let whole = arc_load_whole(&e, 0.0, phi, true, psi);
+        let force = if psi == 0.0 {
+            // the arc from the lowest point (sine 0, cosine 1) to `phi`,
+            // whose sine is `sqrt((1 - cos)(1 + cos))`: no `sin_cos`
+            let sin_phi = ((1.0 - cos_phi) * (1.0 + cos_phi)).sqrt();
+            e.force
+                .integral_sc(0.0, phi, (0.0, 1.0), (sin_phi, cos_phi))
+        } else {
+            arc_load_whole(&e, 0.0, phi, true, psi).force
+        };
         let w = reg(pk);
-        ir -= whole.force.x * w;
-        inn += whole.force.z * w;
+        ir -= force.x * w;
+        inn += force.z * w;
     }
     let lr = if ir > 0.0 { f_t * beta.sin() / ir } else { 0.0 };
     let ln = if inn > 0.0 {
@@ -680,6 +694,49 @@ mod tests {
             "{f} {}",
             d0.force
         );
+    }
+
+    /// `pressure_level`'s own closed form at `psi = 0` (the arc's end sine
+    /// from its cosine) gives the level of `arc_load_whole`'s (both ends'
+    /// `sin_cos`) to round-off, on an upright and a tilted disc, shallow and
+    /// deep.
+    #[test]
+    fn pressure_level_at_psi_zero_is_the_whole_arcs_level() {
+        let c = CutterParams::default();
+        let reg = |d: f64| (d / 1e-3).min(1.0);
+        for roll in [0.0, 0.5] {
+            let d = PosedDisc::new(&c, &Pose::new(0.0, 0.0, 0.3, roll, 0.0, 0.0));
+            for p in [2e-4, 1e-3, 3.8e-3, 0.012] {
+                let (lr, ln) = pressure_level(&d, 9, p, 0.0, 1e5, 0.1, &reg);
+                // the same sums through `arc_load_whole`
+                let still = Motion {
+                    v: Vector3::new(1.0, 0.0, 0.0),
+                    w: Vector3::new(0.0, 1.0 / d.radius, 0.0),
+                    moving: 1.0,
+                    vn_eps: 0.0,
+                    ahead_rot: Matrix3::identity(),
+                    ahead_pos: Vector3::zeros(),
+                };
+                let dy = 2.0 * d.half_width / 9.0;
+                let (mut ir, mut inn) = (0.0, 0.0);
+                for k in 0..9 {
+                    let y = -d.half_width + dy * (k as f64 + 0.5);
+                    let rho = d.rho(y);
+                    let pk = p - (d.radius - rho);
+                    if pk > 0.0 {
+                        let phi = ((rho - pk) / rho).acos();
+                        let e = Element::rim(&d, y, dy, &still);
+                        let f = arc_load_whole(&e, 0.0, phi, true, 0.0).force;
+                        ir -= f.x * reg(pk);
+                        inn += f.z * reg(pk);
+                    }
+                }
+                let (er, en) = (1e5 * 0.1f64.sin() / ir, 1e5 * 0.1f64.cos() / inn);
+                assert!(lr > 0.0 && ln > 0.0, "p = {p}");
+                assert!((lr - er).abs() < 1e-12 * er, "p = {p}: {lr} {er}");
+                assert!((ln - en).abs() < 1e-12 * en, "p = {p}: {ln} {en}");
+            }
+        }
     }
 
     #[test]

@@ -144,9 +144,17 @@ pub fn arc_contribution(
             .iter()
             .max_by(|p, q| (p.1 - p.0).total_cmp(&(q.1 - q.0)))
         {
+            // the part's quarter points, turned from its middle by a
+            // quarter of it (one `sin_cos` for the three)
+            let (m, q) = (0.5 * (a + b), 0.25 * (b - a));
+            let sc_m = m.sin_cos();
             let mut sum = 0.0;
-            for f in [0.25, 0.5, 0.75] {
-                let u = rock_ahead(map, disc, motion, &e.point(a + (b - a) * f));
+            for sc in [
+                sin_cos_near(m - q, m, sc_m),
+                sc_m,
+                sin_cos_near(m + q, m, sc_m),
+            ] {
+                let u = rock_ahead(map, disc, motion, &e.point_sc(sc));
                 sum += smoothstep((u - elastic_depth - eta) / eta);
             }
             still_there = sum / 3.0;

@@ -52,6 +52,18 @@ pub struct PosedDisc {
     pub flank_cot: f64,
 }
 
+/// The angle at which every rim circle of a posed disc is lowest (its
+/// circles are coaxial), `theta0`, its `sin_cos` found from the rotation
+/// without trigonometry, and how fast the rim's height turns with the angle
+/// per unit radius, `m` (0: the axle vertical, every point of a circle
+/// equally low; `theta0` is then 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lowest {
+    pub theta0: f64,
+    pub sc: (f64, f64),
+    pub m: f64,
+}
+
 impl PosedDisc {
     pub fn new(c: &CutterParams, pose: &Pose) -> Self {
         Self {
@@ -571,21 +583,43 @@ impl PosedDisc {
     /// The arc of the rim circle at axle coordinate `y` (radius `rho`) lying
     /// below height `z_top`: centre angle and half-width, or `None`.
     pub fn arc_below(&self, y: f64, rho: f64, z_top: f64) -> Option<(f64, f64)> {
+        self.arc_below_at(&self.lowest(), y, rho, z_top)
+    }
+
+    /// [`PosedDisc::arc_below`] given the disc's [`PosedDisc::lowest`] (the
+    /// same arithmetic: a caller with many circles finds it once).
+    pub fn arc_below_at(&self, low: &Lowest, y: f64, rho: f64, z_top: f64) -> Option<(f64, f64)> {
         // world z(theta) = c_z + r21 y + rho (r20 sin - r22 cos)
-        let (a, b) = (self.rot[(2, 0)], -self.rot[(2, 2)]);
-        let m = (a * a + b * b).sqrt();
         let s = (z_top - self.centre.z - self.rot[(2, 1)] * y) / rho;
-        if m < 1e-12 {
+        if low.m < 1e-12 {
             return (s > 0.0).then_some((0.0, std::f64::consts::PI));
         }
-        // a sin + b cos = m cos(theta - tm); lowest at theta0 = tm + pi
-        let tm = a.atan2(b);
-        let theta0 = wrap(tm + std::f64::consts::PI);
-        let c = -s / m; // need cos(theta - theta0) >= c
+        let c = -s / low.m; // need cos(theta - theta0) >= c
         if c > 1.0 {
             return None;
         }
-        Some((theta0, c.max(-1.0).acos()))
+        Some((low.theta0, c.max(-1.0).acos()))
+    }
+
+    /// Where every rim circle of the disc is lowest ([`Lowest`]).
+    pub fn lowest(&self) -> Lowest {
+        // world z(theta) = ... + rho (a sin + b cos), a sin + b cos =
+        // m cos(theta - tm): lowest at theta0 = tm + pi
+        let (a, b) = (self.rot[(2, 0)], -self.rot[(2, 2)]);
+        let m = (a * a + b * b).sqrt();
+        if m < 1e-12 {
+            return Lowest {
+                theta0: 0.0,
+                sc: (0.0, 1.0),
+                m,
+            };
+        }
+        let tm = a.atan2(b);
+        Lowest {
+            theta0: wrap(tm + std::f64::consts::PI),
+            sc: (-a / m, -b / m),
+            m,
+        }
     }
 }
 
@@ -745,6 +779,38 @@ mod tests {
 
     fn disc(pose: Pose) -> PosedDisc {
         PosedDisc::new(&CutterParams::default(), &pose)
+    }
+
+    /// The lowest point's sine and cosine from the rotation are those of
+    /// `arc_below`'s angle, on discs rolled, pitched and turned every way.
+    #[test]
+    fn lowest_sin_cos_is_that_of_the_lowest_points_angle() {
+        let mut next = crate::core::uniforms(0x9e37_79b9_7f4a_7c15_u64);
+        for _ in 0..2000 {
+            let mut a = || 3.1 * (2.0 * next() - 1.0);
+            let d = disc(Pose::new(0.0, 0.0, 0.3, a(), 0.5 * a(), a()));
+            let (t0, _) = d.arc_below(0.0, d.radius, f64::MAX).unwrap();
+            let (s, c) = d.lowest().sc;
+            let (s0, c0) = t0.sin_cos();
+            assert!(
+                (s - s0).abs() < 1e-14 && (c - c0).abs() < 1e-14,
+                "{s} {s0} {c} {c0}"
+            );
+        }
+        // upright, and with the axle vertical (every point of a rim circle
+        // equally low: the angle 0)
+        let up = disc(Pose::new(0.0, 0.0, 0.3, 0.0, 0.0, 0.0));
+        assert_eq!(up.lowest().sc, (0.0, 1.0));
+        let flat = disc(Pose::new(
+            0.0,
+            0.0,
+            0.3,
+            std::f64::consts::FRAC_PI_2,
+            0.0,
+            0.0,
+        ));
+        assert_eq!(flat.arc_below(0.0, flat.radius, f64::MAX).unwrap().0, 0.0);
+        assert_eq!(flat.lowest().sc, (0.0, 1.0));
     }
 
     #[test]

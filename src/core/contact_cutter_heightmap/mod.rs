@@ -60,7 +60,7 @@ use super::contact_law::{
     arc_load_in, face_weight, pressure_level, smoothstep, Driving, Element, Load, Motion,
 };
 use super::csm::{contact_angle, CsmLaw};
-use super::cutter::{wrap, PosedDisc};
+use super::cutter::{wrap, Lowest, PosedDisc};
 use super::heightmap::HeightMap;
 use super::params::Numerics;
 use super::pose::Twist;
@@ -192,6 +192,8 @@ pub fn contact(
 struct Query<'a> {
     map: &'a HeightMap,
     disc: &'a PosedDisc,
+    /// Where the disc's rim circles are lowest (`disc.lowest()`).
+    low: Lowest,
     law: &'a CsmLaw,
     elastic_depth: f64,
     /// The highest rock anywhere under the disc.
@@ -330,6 +332,7 @@ impl<'a> Query<'a> {
         Some(Self {
             map,
             disc,
+            low: disc.lowest(),
             law,
             elastic_depth,
             z_top,
@@ -379,7 +382,8 @@ impl<'a> Query<'a> {
         out: &mut [Option<Walk>; 2],
     ) -> ([bool; 2], Option<Driving>) {
         let (disc, map) = (self.disc, self.map);
-        let Some(w) = SliceWalk::below(disc, (c.y, c.radius), self.z_top, self.walk) else {
+        let Some(w) = SliceWalk::below(disc, &self.low, (c.y, c.radius), self.z_top, self.walk)
+        else {
             *out = [None, None];
             return ([true; 2], None);
         };
@@ -453,6 +457,7 @@ impl<'a> Query<'a> {
     /// edge; the rule blends in with the travel speed.)
     fn engage_strips(&self, s: &mut Surface) {
         let (disc, map, z_top, walk) = (self.disc, self.map, self.z_top, self.walk);
+        let low = &self.low;
         let (h, n, w_strip) = (self.h, self.n, self.w_strip);
         let m = self.motion.moving;
         let mut engaged: ArrayVec<Option<(f64, f64)>, 101> = (0..n).map(|_| None).collect();
@@ -464,15 +469,16 @@ impl<'a> Query<'a> {
                 n,
                 |k| s.touches(k),
                 |y| {
-                    SliceWalk::below(disc, (y, disc.rho(y)), z_top, walk)
+                    SliceWalk::below(disc, low, (y, disc.rho(y)), z_top, walk)
                         .is_some_and(|w| w.touches(map, disc, probe))
                 },
                 |y| {
                     let rho = disc.rho(y);
-                    disc.arc_below(y, rho, z_top).is_none_or(|(theta0, _)| {
-                        let p = disc.to_world(&disc.rim_point_local(theta0, y));
-                        map.any_uncut(p.x, p.y)
-                    })
+                    disc.arc_below_at(low, y, rho, z_top)
+                        .is_none_or(|(theta0, _)| {
+                            let p = disc.to_world(&disc.rim_point_local(theta0, y));
+                            map.any_uncut(p.x, p.y)
+                        })
                 },
                 &mut engaged,
                 &mut split,

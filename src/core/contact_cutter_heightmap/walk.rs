@@ -255,9 +255,15 @@ pub struct Walk {
     pub(super) u_max: f64,
     /// `a.sin_cos()` where the march has it (a start at the lowest point).
     pub(super) sc_a: Option<(f64, f64)>,
+    /// `b_in.0.sin_cos()` and `b_out`'s, where the march has them (its
+    /// samples' sines and cosines, turned from the lowest point's).
+    pub(super) sc_b: (Option<SinCos>, Option<SinCos>),
     /// The rim's heights at the ends, once read (`Walk::end_heights`).
     pub(super) ends: Option<EndHeights>,
 }
+
+/// An angle's `sin_cos`.
+pub(super) type SinCos = (f64, f64);
 
 /// A finished arc with `sin_cos` of its `a` and `b`.
 pub(super) type Finished = (Arc, [(f64, f64); 2]);
@@ -299,12 +305,15 @@ impl Walk {
         }
         let rim = RimCircle::new(disc, self.y, self.radius);
         let sc_a = self.sc_a.unwrap_or_else(|| self.a.sin_cos());
-        let sc_b_in = self.b_in.0.sin_cos();
+        let sc_b_in = self.sc_b.0.unwrap_or_else(|| self.b_in.0.sin_cos());
         let b_in = rim.z_sc(sc_b_in);
         EndHeights {
             a: rim.z_sc(sc_a),
             b_in,
-            b_far: self.b_out.map_or(b_in, |o| rim.z(o.0)),
+            b_far: self.b_out.map_or(b_in, |o| match self.sc_b.1 {
+                Some(sc) => rim.z_sc(sc),
+                None => rim.z(o.0),
+            }),
             sc_a,
             sc_b_in,
         }
@@ -391,6 +400,8 @@ pub(super) struct SliceWalk {
     pub(super) y: f64,
     pub(super) radius: f64,
     pub(super) theta0: f64,
+    /// `theta0.sin_cos()`, from the disc's rotation.
+    pub(super) sc0: (f64, f64),
     pub(super) reach: f64,
     pub(super) step: f64,
     pub(super) look: f64,
@@ -401,18 +412,21 @@ pub(super) struct SliceWalk {
 
 impl SliceWalk {
     /// The walk of the circle `(y, radius)` over the part of it below
-    /// `z_top`, in steps of about `step_len` of rim; `None` when none is.
+    /// `z_top`, in steps of about `step_len` of rim; `None` when none is
+    /// (`low`: `disc.lowest()`).
     pub(super) fn below(
         disc: &PosedDisc,
+        low: &Lowest,
         (y, radius): (f64, f64),
         z_top: f64,
         (step_len, look, skip): (f64, f64, bool),
     ) -> Option<Self> {
-        let (theta0, reach) = disc.arc_below(y, radius, z_top)?;
+        let (theta0, reach) = disc.arc_below_at(low, y, radius, z_top)?;
         Some(Self {
             y,
             radius,
             theta0,
+            sc0: low.sc,
             reach: reach.min(std::f64::consts::PI),
             step: step_len / radius,
             look,
@@ -423,7 +437,7 @@ impl SliceWalk {
     /// The circle, its lowest point's sine and cosine, and the rock over it.
     pub(super) fn start(&self, map: &HeightMap, disc: &PosedDisc) -> (RimCircle, f64, f64, f64) {
         let rim = RimCircle::new(disc, self.y, self.radius);
-        let (s, c) = self.theta0.sin_cos();
+        let (s, c) = self.sc0;
         let here0 = rim.overlap_here(map, s, c);
         (rim, s, c, here0)
     }
@@ -539,7 +553,7 @@ pub(super) fn march_from(
 ) -> Option<Walk> {
     let n = ((reach / step).ceil() as usize).max(1);
     let dt = dir * reach / n as f64;
-    let (sd, cd) = dt.sin_cos();
+    let (sd, cd) = sin_cos_near(dt, 0.0, (0.0, 1.0));
     let (mut s, mut c) = (s0, c0);
     let advance = |s: &mut f64, c: &mut f64| advance_by(s, c, sd, cd);
     // contact starts where the rim is below the rock itself ...
@@ -568,6 +582,9 @@ pub(super) fn march_from(
         (t, Some((tp, up, here)), t, here)
     };
     let (mut t_prev, mut u_prev) = (t_prev, u_prev);
+    // `t_prev`'s sine and cosine where the march has them, and `b_out`'s
+    let mut sc_prev_in = sc_a;
+    let mut sc_out = None;
     // ... and lasts while it is below the rock here or one cell ahead
     let b_out = loop {
         k += 1;
@@ -599,13 +616,18 @@ pub(super) fn march_from(
                 let (here_s, ahead_s) = rim.overlap(map, ss, cs, dir, look);
                 if ahead_s <= 0.0 {
                     out = Some((ts, ahead_s));
+                    sc_out = Some((ss, cs));
                     break;
                 }
                 u_max = u_max.max(here_s);
                 t_prev = ts;
                 u_prev = ahead_s;
+                sc_prev_in = Some((ss, cs));
             }
             if out.is_some() || !at_top {
+                if out.is_none() {
+                    sc_out = Some((s, c));
+                }
                 break out.or(Some((t, ahead)));
             }
             // inside up to the top: the arc ends there (k = n, so the
@@ -614,6 +636,7 @@ pub(super) fn march_from(
         u_max = u_max.max(here);
         t_prev = t;
         u_prev = ahead;
+        sc_prev_in = Some((s, c));
     };
     Some(Walk {
         y,
@@ -625,6 +648,7 @@ pub(super) fn march_from(
         b_out,
         u_max,
         sc_a,
+        sc_b: (sc_prev_in, sc_out),
         ends: None,
     })
 }
@@ -792,6 +816,60 @@ mod tests {
     use crate::core::params::CutterParams;
     use crate::core::{cutter::PosedDisc, Pose};
     use nalgebra::Vector3;
+
+    /// The sines and cosines a march keeps for its last sample inside and
+    /// the sample after it (turned step by step from the lowest point's) are
+    /// those of the angles, on discs rolled and turned every way, their
+    /// lowest points in the rock and above a groove in it.
+    #[test]
+    fn a_marchs_end_sines_and_cosines_are_its_angles() {
+        let grid = Grid::new(-0.3, 0.3, -0.3, 0.3, 601, 601);
+        let mut map = HeightMap::flat(grid, 0.0);
+        // a groove 4 mm deep along x, 8 mm wide, under the discs' centres
+        for i in 0..601 {
+            for j in 296..=304 {
+                map.set_node(i, j, -4e-3);
+            }
+        }
+        let c = CutterParams::default();
+        let mut next = crate::core::uniforms(0x1234_5678_9abc_def1_u64);
+        let (mut checked, mut from_search) = (0, 0);
+        for _ in 0..4000 {
+            let (roll, yaw) = (1.0 * (2.0 * next() - 1.0), 3.1 * (2.0 * next() - 1.0));
+            let depth = 8e-3 * next();
+            let pose = Pose::new(0.0, 0.0, c.radius - depth, roll, 0.0, yaw);
+            let disc = PosedDisc::new(&c, &pose);
+            let y = disc.half_width * (2.0 * next() - 1.0);
+            let low = disc.lowest();
+            let walk =
+                super::SliceWalk::below(&disc, &low, (y, disc.rho(y)), 0.01, (4e-3, 1e-3, true));
+            let Some(walk) = walk else { continue };
+            let side = walk.sides(&map, &disc);
+            for dir in [1.0, -1.0] {
+                let Some(w) = side(dir) else { continue };
+                if w.sc_a.is_none() {
+                    from_search += 1;
+                }
+                let close = |sc: (f64, f64), t: f64| {
+                    let (s, c) = t.sin_cos();
+                    assert!(
+                        (sc.0 - s).abs() < 1e-13 && (sc.1 - c).abs() < 1e-13,
+                        "{sc:?} {t}"
+                    );
+                };
+                if let Some(sc) = w.sc_b.0 {
+                    close(sc, w.b_in.0);
+                    checked += 1;
+                }
+                match (w.sc_b.1, w.b_out) {
+                    (Some(sc), Some(o)) => close(sc, o.0),
+                    (None, None) => {}
+                    other => panic!("{other:?}"),
+                }
+            }
+        }
+        assert!(checked > 600 && from_search > 20, "{checked} {from_search}");
+    }
 
     /// `out_of_rock` passes over a run above the nodes under it, and not
     /// over one with a node above a rim point, nor over one a node

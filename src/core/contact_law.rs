@@ -633,20 +633,22 @@ pub fn pressure_level(
             continue;
         }
         let cos_phi = ((rho - pk) / rho).clamp(-1.0, 1.0);
-        let phi = cos_phi.acos();
-        let e = Element::rim(disc, y, dy, &still);
-        let force = if psi == 0.0 {
-            // the arc from the lowest point (sine 0, cosine 1) to `phi`,
-            // whose sine is `sqrt((1 - cos)(1 + cos))`: no `sin_cos`
+        let (fx, fz) = if psi == 0.0 {
+            // `arc_load_whole` of the rim element (`Element::rim`) from the
+            // lowest point to `phi` in closed form: its rolling and normal
+            // parts are `-g (1 - cos phi)` and `g sin phi`, `g = rho dy`
+            // (the angle itself only enters the axial part, unused here)
             let sin_phi = ((1.0 - cos_phi) * (1.0 + cos_phi)).sqrt();
-            e.force
-                .integral_sc(0.0, phi, (0.0, 1.0), (sin_phi, cos_phi))
+            let g = rho * dy;
+            (-g * (1.0 - cos_phi), g * sin_phi)
         } else {
-            arc_load_whole(&e, 0.0, phi, true, psi).force
+            let e = Element::rim(disc, y, dy, &still);
+            let f = arc_load_whole(&e, 0.0, cos_phi.acos(), true, psi).force;
+            (f.x, f.z)
         };
         let w = reg(pk);
-        ir -= force.x * w;
-        inn += force.z * w;
+        ir -= fx * w;
+        inn += fz * w;
     }
     let lr = if ir > 0.0 { f_t * beta.sin() / ir } else { 0.0 };
     let ln = if inn > 0.0 {

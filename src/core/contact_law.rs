@@ -601,6 +601,19 @@ fn arc_load_quadrature(
     (whole, drive)
 }
 
+/// The motion of [`pressure_level`]'s fresh straight cut: rolling forwards
+/// at unit speed, no look-ahead turn.
+fn level_motion(disc: &PosedDisc) -> Motion {
+    Motion {
+        v: Vector3::new(1.0, 0.0, 0.0),
+        w: Vector3::new(0.0, 1.0 / disc.radius, 0.0),
+        moving: 1.0,
+        vn_eps: 0.0,
+        ahead_rot: Matrix3::identity(),
+        ahead_pos: Vector3::zeros(),
+    }
+}
+
 /// `lambda_R(p)` and `lambda_N(p)`: the CSM rolling and normal force at `p`
 /// over the same law's integral on a fresh straight cut at `p` with `n`
 /// slices, each slice's arc weighed by `reg(its depth)` as the law weighs it
@@ -614,14 +627,6 @@ pub fn pressure_level(
     beta: f64,
     reg: &dyn Fn(f64) -> f64,
 ) -> (f64, f64) {
-    let still = Motion {
-        v: Vector3::new(1.0, 0.0, 0.0),
-        w: Vector3::new(0.0, 1.0 / disc.radius, 0.0),
-        moving: 1.0,
-        vn_eps: 0.0,
-        ahead_rot: Matrix3::identity(),
-        ahead_pos: Vector3::zeros(),
-    };
     let h = disc.half_width;
     let dy = 2.0 * h / n as f64;
     let (mut ir, mut inn) = (0.0, 0.0);
@@ -642,7 +647,7 @@ pub fn pressure_level(
             let g = rho * dy;
             (-g * (1.0 - cos_phi), g * sin_phi)
         } else {
-            let e = Element::rim(disc, y, dy, &still);
+            let e = Element::rim(disc, y, dy, &level_motion(disc));
             let f = arc_load_whole(&e, 0.0, cos_phi.acos(), true, psi).force;
             (f.x, f.z)
         };
@@ -711,14 +716,7 @@ mod tests {
             for p in [2e-4, 1e-3, 3.8e-3, 0.012] {
                 let (lr, ln) = pressure_level(&d, 9, p, 0.0, 1e5, 0.1, &reg);
                 // the same sums through `arc_load_whole`
-                let still = Motion {
-                    v: Vector3::new(1.0, 0.0, 0.0),
-                    w: Vector3::new(0.0, 1.0 / d.radius, 0.0),
-                    moving: 1.0,
-                    vn_eps: 0.0,
-                    ahead_rot: Matrix3::identity(),
-                    ahead_pos: Vector3::zeros(),
-                };
+                let still = level_motion(&d);
                 let dy = 2.0 * d.half_width / 9.0;
                 let (mut ir, mut inn) = (0.0, 0.0);
                 for k in 0..9 {

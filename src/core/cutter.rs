@@ -54,10 +54,10 @@ pub struct PosedDisc {
 
 /// The angle at which every rim circle of a posed disc is lowest (its
 /// circles are coaxial), `theta0`, its `sin_cos` found from the rotation
-/// without trigonometry, and `m`, how far a circle's points rise above its
-/// lowest per unit radius, at most (its height is `-m cos(theta - theta0)`
-/// about the centre's; `m` is 0 with the axle vertical, every point of a
-/// circle equally low, and `theta0` is then 0).
+/// without trigonometry, and `m`, the amplitude of a circle's height per
+/// unit radius (a point's height about its circle's centre is
+/// `-m rho cos(theta - theta0)`; `m` is 0 with the axle vertical, every
+/// point of a circle equally low, and `theta0` is then 0).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lowest {
     pub theta0: f64,

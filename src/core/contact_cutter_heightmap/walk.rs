@@ -1,6 +1,6 @@
 //! Walking one circle of the disc's surface through the rock: the rock
 //! over a surface point (`rock_over`), the march from the lowest point to
-//! the first arc's ends (`SliceWalk`, `march_from`, `find_start`) and the
+//! the first arc's ends (`SliceWalk`: `march_from`, `find_start`) and the
 //! refinement of those ends (`Walk`).
 
 use super::*;
@@ -472,19 +472,7 @@ impl SliceWalk {
         disc: &PosedDisc,
     ) -> impl Fn(f64) -> Option<Walk> + 'a {
         let (rim, s, c, here0) = self.start(map, disc);
-        move |dir: f64| {
-            march_from(
-                map,
-                &rim,
-                (self.y, self.radius),
-                (self.theta0, s, c),
-                here0,
-                self.reach,
-                dir,
-                self.step,
-                (self.look, self.skip),
-            )
-        }
+        move |dir: f64| self.march_from(map, &rim, (s, c), here0, dir)
     }
 
     /// Which sides (`[+1, -1]`) of the circle drive into the rock within
@@ -516,243 +504,219 @@ impl SliceWalk {
             .map(|w| w.0)
             .any(|dir| {
                 let dt = dir * self.reach / n as f64;
-                find_start(
-                    map,
-                    &rim,
-                    self.radius,
-                    (self.theta0, s, c),
-                    here0,
-                    self.reach,
-                    dir,
-                    dt,
-                    (self.look, self.skip),
-                )
-                .is_some()
+                self.find_start(map, &rim, (s, c), here0, dir, dt).is_some()
             })
     }
-}
 
-/// One side (`dir`) of [`SliceWalk::march_into`] on the circle `rim`
-/// (`(y, radius)`) from `theta0` (sine `s0`, cosine `c0`), where the rock
-/// over the rim is `here0`.
-///
-/// (Until the start is found only the rock over the rim itself is read:
-/// where it is positive the look-ahead is that same value, see
-/// [`rock_over`], and where it is not the walk has not started.)
-#[allow(clippy::too_many_arguments)]
-pub(super) fn march_from(
-    map: &HeightMap,
-    rim: &RimCircle,
-    (y, radius): (f64, f64),
-    (theta0, s0, c0): (f64, f64, f64),
-    here0: f64,
-    reach: f64,
-    dir: f64,
-    step: f64,
-    (look, skip): (f64, bool),
-) -> Option<Walk> {
-    let n = ((reach / step).ceil() as usize).max(1);
-    let dt = dir * reach / n as f64;
-    let (sd, cd) = sin_cos_near(dt, 0.0, (0.0, 1.0));
-    let (mut s, mut c) = (s0, c0);
-    let advance = |s: &mut f64, c: &mut f64| advance_by(s, c, sd, cd);
-    // contact starts where the rim is below the rock itself ...
-    let mut k = 0;
-    let mut u_max = here0.max(0.0);
-    let mut sc_a = None;
-    let (a, a_out, t_prev, u_prev) = if here0 > 0.0 {
-        sc_a = Some((s0, c0));
-        (theta0, None, theta0, here0)
-    } else {
-        let (t, tp, up, here) = find_start(
-            map,
-            rim,
+    /// One side (`dir`) of [`SliceWalk::march_into`] on the circle `rim`
+    /// from `theta0` (sine `s0`, cosine `c0`), where the rock over the rim is
+    /// `here0`.
+    ///
+    /// (Until the start is found only the rock over the rim itself is read:
+    /// where it is positive the look-ahead is that same value, see
+    /// [`rock_over`], and where it is not the walk has not started.)
+    fn march_from(
+        &self,
+        map: &HeightMap,
+        rim: &RimCircle,
+        (s0, c0): SinCos,
+        here0: f64,
+        dir: f64,
+    ) -> Option<Walk> {
+        let (y, radius, theta0, reach, look) =
+            (self.y, self.radius, self.theta0, self.reach, self.look);
+        let n = ((reach / self.step).ceil() as usize).max(1);
+        let dt = dir * reach / n as f64;
+        let (sd, cd) = sin_cos_near(dt, 0.0, (0.0, 1.0));
+        let (mut s, mut c) = (s0, c0);
+        let advance = |s: &mut f64, c: &mut f64| advance_by(s, c, sd, cd);
+        // contact starts where the rim is below the rock itself ...
+        let mut k = 0;
+        let mut u_max = here0.max(0.0);
+        let mut sc_a = None;
+        let (a, a_out, t_prev, u_prev) = if here0 > 0.0 {
+            sc_a = Some((s0, c0));
+            (theta0, None, theta0, here0)
+        } else {
+            let (t, tp, up, here) = self.find_start(map, rim, (s0, c0), here0, dir, dt)?;
+            u_max = here;
+            // resume the coarse grid at the last grid angle before the start
+            k = ((t - theta0) / dt).floor().max(0.0) as usize;
+            (s, c) = (theta0 + dt * k as f64).sin_cos();
+            (t, Some((tp, up, here)), t, here)
+        };
+        let (mut t_prev, mut u_prev) = (t_prev, u_prev);
+        // `t_prev`'s sine and cosine where the march has them, and `b_out`'s
+        let mut sc_prev_in = sc_a;
+        let mut sc_out = None;
+        // ... and lasts while it is below the rock here or one cell ahead
+        let b_out = loop {
+            k += 1;
+            if k > n {
+                break None;
+            }
+            let sc_prev = (s, c);
+            advance(&mut s, &mut c);
+            let t = theta0 + dt * k as f64;
+            let (here, ahead) = rim.overlap(map, s, c, dir, look);
+            // the walk's last angle is where the rim rises to the highest rock
+            // near the disc: the rock there is over the rim by round-off at
+            // most, and whether it read inside or out decided whether the
+            // whole last step was contact (the forces jumped as the pose moved
+            // by round-off)
+            let at_top = k == n && reach < std::f64::consts::PI;
+            if ahead <= 0.0 || at_top {
+                // The step is walked again at one cell of rim, so that the end
+                // is the first exit to that resolution: where the rim grazes rock cut earlier, the rock
+                // over it can dip to zero and back inside one step, and
+                // refining the step's bracket found either exit as the pose
+                // moved by round-off.
+                let m = ((dt.abs() * radius / look).ceil() as usize).max(1);
+                let (t0, dts) = (t_prev, (t - t_prev) / m as f64);
+                let mut out = None;
+                for j in 1..m {
+                    let ts = t0 + dts * j as f64;
+                    let (ss, cs) = sin_cos_near(ts, t - dt, sc_prev);
+                    let (here_s, ahead_s) = rim.overlap(map, ss, cs, dir, look);
+                    if ahead_s <= 0.0 {
+                        out = Some((ts, ahead_s));
+                        sc_out = Some((ss, cs));
+                        break;
+                    }
+                    u_max = u_max.max(here_s);
+                    t_prev = ts;
+                    u_prev = ahead_s;
+                    sc_prev_in = Some((ss, cs));
+                }
+                if out.is_some() || !at_top {
+                    if out.is_none() {
+                        sc_out = Some((s, c));
+                    }
+                    break out.or(Some((t, ahead)));
+                }
+                // inside up to the top: the arc ends there (k = n, so the
+                // walk's next turn ends it)
+            }
+            u_max = u_max.max(here);
+            t_prev = t;
+            u_prev = ahead;
+            sc_prev_in = Some((s, c));
+        };
+        Some(Walk {
+            y,
             radius,
-            (theta0, s0, c0),
-            here0,
-            reach,
             dir,
-            dt,
-            (look, skip),
-        )?;
-        u_max = here;
-        // resume the coarse grid at the last grid angle before the start
-        k = ((t - theta0) / dt).floor().max(0.0) as usize;
-        (s, c) = (theta0 + dt * k as f64).sin_cos();
-        (t, Some((tp, up, here)), t, here)
-    };
-    let (mut t_prev, mut u_prev) = (t_prev, u_prev);
-    // `t_prev`'s sine and cosine where the march has them, and `b_out`'s
-    let mut sc_prev_in = sc_a;
-    let mut sc_out = None;
-    // ... and lasts while it is below the rock here or one cell ahead
-    let b_out = loop {
-        k += 1;
-        if k > n {
-            break None;
-        }
-        let sc_prev = (s, c);
-        advance(&mut s, &mut c);
-        let t = theta0 + dt * k as f64;
-        let (here, ahead) = rim.overlap(map, s, c, dir, look);
-        // the walk's last angle is where the rim rises to the highest rock
-        // near the disc: the rock there is over the rim by round-off at
-        // most, and whether it read inside or out decided whether the
-        // whole last step was contact (the forces jumped as the pose moved
-        // by round-off)
-        let at_top = k == n && reach < std::f64::consts::PI;
-        if ahead <= 0.0 || at_top {
-            // The step is walked again at one cell of rim, so that the end
-            // is the first exit to that resolution: where the rim grazes rock cut earlier, the rock
-            // over it can dip to zero and back inside one step, and
-            // refining the step's bracket found either exit as the pose
-            // moved by round-off.
-            let m = ((dt.abs() * radius / look).ceil() as usize).max(1);
-            let (t0, dts) = (t_prev, (t - t_prev) / m as f64);
-            let mut out = None;
-            for j in 1..m {
-                let ts = t0 + dts * j as f64;
-                let (ss, cs) = sin_cos_near(ts, t - dt, sc_prev);
-                let (here_s, ahead_s) = rim.overlap(map, ss, cs, dir, look);
-                if ahead_s <= 0.0 {
-                    out = Some((ts, ahead_s));
-                    sc_out = Some((ss, cs));
-                    break;
-                }
-                u_max = u_max.max(here_s);
-                t_prev = ts;
-                u_prev = ahead_s;
-                sc_prev_in = Some((ss, cs));
-            }
-            if out.is_some() || !at_top {
-                if out.is_none() {
-                    sc_out = Some((s, c));
-                }
-                break out.or(Some((t, ahead)));
-            }
-            // inside up to the top: the arc ends there (k = n, so the
-            // walk's next turn ends it)
-        }
-        u_max = u_max.max(here);
-        t_prev = t;
-        u_prev = ahead;
-        sc_prev_in = Some((s, c));
-    };
-    Some(Walk {
-        y,
-        radius,
-        dir,
-        a,
-        a_out,
-        b_in: (t_prev, u_prev),
-        b_out,
-        u_max,
-        sc_a,
-        sc_b: (sc_prev_in, sc_out),
-        ends: None,
-    })
-}
+            a,
+            a_out,
+            b_in: (t_prev, u_prev),
+            b_out,
+            u_max,
+            sc_a,
+            sc_b: (sc_prev_in, sc_out),
+            ends: None,
+        })
+    }
 
-/// The start of a walk whose lowest point `theta0` (sine `s0`, cosine
-/// `c0`) is out of the rock (`here0 <= 0`), on the side `dir` within
-/// `reach`, the coarse step being `dt`: the first angle where the rock is
-/// over the rim, the angle before it and the rock over the rim there, and
-/// the rock over the rim at the start. `None` when the rim stays out.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn find_start(
-    map: &HeightMap,
-    rim: &RimCircle,
-    radius: f64,
-    (theta0, s0, c0): (f64, f64, f64),
-    here0: f64,
-    reach: f64,
-    dir: f64,
-    dt: f64,
-    (look, skip): (f64, bool),
-) -> Option<(f64, f64, f64, f64)> {
-    // the lowest point is out of the rock: search for the start with a
-    // step of half a cell of rim, so that a short arc (the rim meeting
-    // the end face of the rock, a groove's shoulder) is not stepped over
-    let fine = (look * 0.5 / radius).min(dt.abs());
-    let m = ((reach / fine).ceil() as usize).max(1);
-    let dtf = dir * reach / m as f64;
-    // ... and at the angles where the rim crosses the edges of the map,
-    // where rock begins with a vertical face and an arc can be shorter
-    // than any step
-    let g = map.grid();
-    let mut extra = [0.0f64; 8];
-    let mut ne = 0;
-    for (axis, edges) in [(0usize, [g.x_min, g.x_max()]), (1, [g.y_min, g.y_max()])] {
-        for e in edges {
-            for t in rim.crossings(axis, e).into_iter().flatten() {
-                let off = wrap(t - theta0) * dir;
-                if off > 0.0 && off < reach {
-                    extra[ne] = theta0 + off * dir;
-                    ne += 1;
+    /// The start of a walk whose lowest point `theta0` (sine `s0`, cosine
+    /// `c0`) is out of the rock (`here0 <= 0`), on the side `dir` within
+    /// `reach`, the coarse step being `dt`: the first angle where the rock is
+    /// over the rim, the angle before it and the rock over the rim there, and
+    /// the rock over the rim at the start. `None` when the rim stays out.
+    fn find_start(
+        &self,
+        map: &HeightMap,
+        rim: &RimCircle,
+        (s0, c0): SinCos,
+        here0: f64,
+        dir: f64,
+        dt: f64,
+    ) -> Option<(f64, f64, f64, f64)> {
+        let (radius, theta0, reach, look, skip) =
+            (self.radius, self.theta0, self.reach, self.look, self.skip);
+        // the lowest point is out of the rock: search for the start with a
+        // step of half a cell of rim, so that a short arc (the rim meeting
+        // the end face of the rock, a groove's shoulder) is not stepped over
+        let fine = (look * 0.5 / radius).min(dt.abs());
+        let m = ((reach / fine).ceil() as usize).max(1);
+        let dtf = dir * reach / m as f64;
+        // ... and at the angles where the rim crosses the edges of the map,
+        // where rock begins with a vertical face and an arc can be shorter
+        // than any step
+        let g = map.grid();
+        let mut extra = [0.0f64; 8];
+        let mut ne = 0;
+        for (axis, edges) in [(0usize, [g.x_min, g.x_max()]), (1, [g.y_min, g.y_max()])] {
+            for e in edges {
+                for t in rim.crossings(axis, e).into_iter().flatten() {
+                    let off = wrap(t - theta0) * dir;
+                    if off > 0.0 && off < reach {
+                        extra[ne] = theta0 + off * dir;
+                        ne += 1;
+                    }
                 }
             }
         }
-    }
-    // the angle before the current one and the rock over the rim there,
-    // or that angle's sine and cosine where the rock was not read
-    let mut prev = (theta0, Ok(here0));
-    let visit = |t: f64, st: f64, ct: f64, prev: &mut (f64, Result<f64, (f64, f64)>)| {
-        let here = rim.overlap_here(map, st, ct);
-        if here > 0.0 {
-            let up = prev.1.unwrap_or_else(|(s, c)| rim.overlap_here(map, s, c));
-            return Some((t, prev.0, up, here));
+        // the angle before the current one and the rock over the rim there,
+        // or that angle's sine and cosine where the rock was not read
+        let mut prev = (theta0, Ok(here0));
+        let visit = |t: f64, st: f64, ct: f64, prev: &mut (f64, Result<f64, (f64, f64)>)| {
+            let here = rim.overlap_here(map, st, ct);
+            if here > 0.0 {
+                let up = prev.1.unwrap_or_else(|(s, c)| rim.overlap_here(map, s, c));
+                return Some((t, prev.0, up, here));
+            }
+            *prev = (t, Ok(here));
+            None
+        };
+        let grid = |kf: usize| theta0 + dtf * kf as f64;
+        if ne > 0 {
+            // the grid and the crossings, in walking order
+            let mut angles: Vec<f64> = (1..=m).map(grid).collect();
+            angles.extend_from_slice(&extra[..ne]);
+            angles.sort_by(|p, q| ((p - theta0) * dir).total_cmp(&((q - theta0) * dir)));
+            for &t in &angles {
+                let (st, ct) = t.sin_cos();
+                if let Some(f) = visit(t, st, ct, &mut prev) {
+                    return Some(f);
+                }
+            }
+        } else {
+            // on the even grid of angles (no map edge crossed, the usual
+            // case) the rim point turns by a fixed rotation, as in the walk
+            // below
+            let (sdf, cdf) = dtf.sin_cos();
+            let (mut sf, mut cf) = (s0, c0);
+            let mut kf = 1;
+            // the first sample a run may start at: past the first run's worth
+            // (a start near the lowest point is found sample by sample), and
+            // past a run that was not passed over (it is read sample by sample)
+            let mut next_run = START_FIRST + 1;
+            while kf <= m {
+                // a run of samples that no node under them reaches is passed
+                // over: a height is a weighted mean of its cell's nodes (the
+                // rim grazing an old groove's floor searched its whole reach
+                // sample by sample, 40 % of a contact beside a groove)
+                // (the last run may be shorter)
+                let end = (kf + START_RUN - 1).min(m);
+                if skip && kf >= next_run {
+                    let (mut s1, mut c1) = (sf, cf);
+                    if rim.out_of_rock(map, &mut s1, &mut c1, (sdf, cdf), end + 1 - kf) {
+                        (sf, cf) = (s1, c1);
+                        prev = (grid(end), Err((s1, c1)));
+                        kf = end + 1;
+                        continue;
+                    }
+                    next_run = kf + START_RETRY;
+                }
+                advance_by(&mut sf, &mut cf, sdf, cdf);
+                if let Some(f) = visit(grid(kf), sf, cf, &mut prev) {
+                    return Some(f);
+                }
+                kf += 1;
+            }
         }
-        *prev = (t, Ok(here));
         None
-    };
-    let grid = |kf: usize| theta0 + dtf * kf as f64;
-    if ne > 0 {
-        // the grid and the crossings, in walking order
-        let mut angles: Vec<f64> = (1..=m).map(grid).collect();
-        angles.extend_from_slice(&extra[..ne]);
-        angles.sort_by(|p, q| ((p - theta0) * dir).total_cmp(&((q - theta0) * dir)));
-        for &t in &angles {
-            let (st, ct) = t.sin_cos();
-            if let Some(f) = visit(t, st, ct, &mut prev) {
-                return Some(f);
-            }
-        }
-    } else {
-        // on the even grid of angles (no map edge crossed, the usual
-        // case) the rim point turns by a fixed rotation, as in the walk
-        // below
-        let (sdf, cdf) = dtf.sin_cos();
-        let (mut sf, mut cf) = (s0, c0);
-        let mut kf = 1;
-        // the first sample a run may start at: past the first run's worth
-        // (a start near the lowest point is found sample by sample), and
-        // past a run that was not passed over (it is read sample by sample)
-        let mut next_run = START_FIRST + 1;
-        while kf <= m {
-            // a run of samples that no node under them reaches is passed
-            // over: a height is a weighted mean of its cell's nodes (the
-            // rim grazing an old groove's floor searched its whole reach
-            // sample by sample, 40 % of a contact beside a groove)
-            // (the last run may be shorter)
-            let end = (kf + START_RUN - 1).min(m);
-            if skip && kf >= next_run {
-                let (mut s1, mut c1) = (sf, cf);
-                if rim.out_of_rock(map, &mut s1, &mut c1, (sdf, cdf), end + 1 - kf) {
-                    (sf, cf) = (s1, c1);
-                    prev = (grid(end), Err((s1, c1)));
-                    kf = end + 1;
-                    continue;
-                }
-                next_run = kf + START_RETRY;
-            }
-            advance_by(&mut sf, &mut cf, sdf, cdf);
-            if let Some(f) = visit(grid(kf), sf, cf, &mut prev) {
-                return Some(f);
-            }
-            kf += 1;
-        }
     }
-    None
 }
 
 /// Samples of the start search read one by one before the first run is

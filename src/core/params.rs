@@ -125,11 +125,14 @@ pub struct Numerics {
     pub arc_step_cells: f64,
     /// Spacing of the circles sampled across a side face of a tilted disc
     /// (its rings) and along each flank (its bands), in mesh cells: the
-    /// face's band that can reach the rock is cut into rings this far apart
-    /// (midpoint rule in the radius), at least 2 and at most
-    /// `MAX_RINGS` (24) a face. The side face is what loads a gauge
-    /// cutter's bearing sideways, and its rings are most of a gauge
-    /// cutter's contact (`examples/ring_steps` measures the trade).
+    /// face's band that can reach the rock is cut into bands this far apart,
+    /// at least 2 and at most `MAX_RINGS` (24) a face; the outermost keeps
+    /// a ring at its middle and the rest get one ring for every
+    /// `RING_GRADE` (3) bands, graded towards the face's inner edge
+    /// (`face_rings`). The flanks' bands are each sampled at their middle.
+    /// The side face is what loads a gauge cutter's bearing sideways, and
+    /// its rings are most of a gauge cutter's contact (`examples/ring_steps`
+    /// measures the trade).
     pub ring_step_cells: f64,
     /// Thickness of the elastic layer of the rock \[m\]: the rock yields once
     /// the rim is this far inside it; after a cut the rock keeps touching the

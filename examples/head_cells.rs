@@ -3,7 +3,7 @@
 //! revolution at `rpm`, 1 ms steps) for `steps` steps at each setting
 //! `cell_mm:sweep_mm` (`cell_mm:sweep_mm:whole`: every cut takes the
 //! disc's whole front arc, `numerics.cut_ahead`; `...:sN`: `N` tip slices,
-//! `numerics.tip_slices`; `...:rX`: side-face rings `X` cells apart,
+//! `numerics.tip_slices`; `...:rX`: side-face bands `X` cells wide,
 //! `numerics.ring_step_cells`); each setting's mean thrust, torque and per-disc
 //! loads are compared with the first setting's (the reference).
 //! `cargo run --release --example head_cells -- layouts/reference-9.72m.json 300 0.5:0.5 1:1 2:2`
@@ -158,7 +158,7 @@ fn main() {
             sweep += &format!(", {n} tip slices");
         }
         if let Some(r) = rings {
-            sweep += &format!(", rings {r} cells apart");
+            sweep += &format!(", side-face bands {r} cells wide");
         }
         println!(
             "| {} | {} | {:.2} | {:.0} | {:+.2} % | {:.0} | {:+.2} % | {:.2} % | {:.2} % |",

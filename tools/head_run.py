@@ -33,7 +33,8 @@ def main():
     ap.add_argument("--sweep-step", type=float, default=None,
                     help="numerics.sweepStep [m] (default: the FMU's, 1 mm)")
     ap.add_argument("--ring-step", type=float, default=None,
-                    help="numerics.ringStepCells: the gauge discs' side-face rings, in cells apart "
+                    help="numerics.ringStepCells: the width of the bands the gauge discs' side faces "
+                         "are cut into, in cells "
                          "(default: the FMU's, 0.5; README 'Speed and accuracy')")
     ap.add_argument("--out", default="out")
     ap.add_argument("--ucs", type=float, default=158e6)

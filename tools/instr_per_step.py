@@ -23,7 +23,7 @@ Build the examples first, with LTO as the FMU is built:
         CARGO_PROFILE_RELEASE_LTO=false CARGO_PROFILE_RELEASE_DEBUG=true);
         --sweep-step S: numerics.sweepStep S [m] (the default 1e-3; --fast
         sets 2e-3 and 2 mm cells);
-        --ring-step X: side-face rings X cells apart (numerics.ringStepCells;
+        --ring-step X: side-face bands X cells wide (numerics.ringStepCells;
         the gauge scene takes it third: `"gauge -60 4.83 X"`)
 
     --cache (with scene or head, before the other arguments): callgrind's
@@ -195,7 +195,7 @@ def head(fast, part=None, split=False, ring_step=None, sweep_step=None):
     if sweep_step is not None:
         what += f", sweep step {sweep_step} m"
     if ring_step is not None:
-        what += f", rings {ring_step} cells apart"
+        what += f", side-face bands {ring_step} cells wide"
     print(f"reference head{' (fast setting)' if fast else ''}{what}: {per / 1e6:.2f} M a step")
     if cache:
         print("  misses a step: " + misses_line({k: (evs[12][k] - evs[2].get(k, 0)) / 10

@@ -13,7 +13,7 @@
 
 use std::cell::Cell;
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
 use super::chip_heightmap::ChipState;
@@ -204,12 +204,23 @@ impl Disc {
         twist: &Twist,
         params: &Params,
     ) -> Contact {
-        let disc = self.posed(pose);
+        self.contact_of(map, state, &self.posed(pose), twist, params)
+    }
+
+    /// [`Disc::contact`] of the disc already posed.
+    fn contact_of(
+        &self,
+        map: &HeightMap,
+        state: &DiscState,
+        disc: &PosedDisc,
+        twist: &Twist,
+        params: &Params,
+    ) -> Contact {
         let n = &params.numerics;
         let law = self.law_in(state);
         match n.direction {
-            DirectionRule::Kerf => contact(map, &disc, law, n, n.elastic_depth, twist),
-            DirectionRule::Thesis => contact_thesis(map, &disc, law, n, twist),
+            DirectionRule::Kerf => contact(map, disc, law, n, n.elastic_depth, twist),
+            DirectionRule::Thesis => contact_thesis(map, disc, law, n, twist),
         }
     }
 
@@ -223,8 +234,11 @@ impl Disc {
         twist: &Twist,
         params: &Params,
     ) -> Outputs {
-        let c = self.contact(map, state, pose, twist, params);
-        let rot = pose.cutter_rotation();
+        // (the disc posed once: its rotation is the outputs' frame too, a
+        // second `cutter_rotation` was three `sin_cos` an evaluation)
+        let disc = self.posed(pose);
+        let c = self.contact_of(map, state, &disc, twist, params);
+        let rot = Rotation3::from_matrix_unchecked(disc.rot);
         // friction on the slip of the rim over the rock where the contact is
         // lowest (kerf) or at the point of force application (thesis eq. 56)
         let mut slip_v = twist.velocity + twist.omega.cross(&c.slip_point);

@@ -26,7 +26,7 @@ pub(super) const NEGLIGIBLE_WEIGHT: f64 = 1e-14;
 pub(super) const MAX_RINGS: usize = 24;
 
 /// Bands of the side face ([`face_rings`]) that one graded ring stands for.
-pub const RING_GRADE: usize = 3;
+pub(super) const RING_GRADE: usize = 3;
 
 /// Most bands sampled along each flank (midpoint rule along the flank;
 /// each band's arcs are exact).
@@ -80,7 +80,7 @@ pub fn face_below(disc: &PosedDisc, side: f64, z_top: f64) -> Option<(f64, f64)>
 /// cutters' loads and cost, measured: README, "Speed and accuracy"
 /// (`examples/ring_steps`, and the report's brute-force oracle, which puts
 /// 200 rings on the face).
-pub fn face_rings(r_lo: f64, r_hi: f64, ring_step: f64) -> impl Iterator<Item = (f64, f64)> {
+pub(super) fn face_rings(r_lo: f64, r_hi: f64, ring_step: f64) -> impl Iterator<Item = (f64, f64)> {
     let nr = (((r_hi - r_lo) / ring_step).ceil() as usize).clamp(2, MAX_RINGS);
     let dr = (r_hi - r_lo) / nr as f64;
     let ng = (nr - 1).div_ceil(RING_GRADE);

@@ -125,7 +125,7 @@ pub struct Numerics {
     pub arc_step_cells: f64,
     /// Spacing of the circles sampled across a side face of a tilted disc
     /// (its rings) and along each flank (its bands), in mesh cells: the
-    /// face's band that can reach the rock is cut into bands this far apart,
+    /// face's band that can reach the rock is cut into bands this wide,
     /// at least 2 and at most `MAX_RINGS` (24) a face; the outermost keeps
     /// a ring at its middle and the rest get one ring for every
     /// `RING_GRADE` (3) bands, graded towards the face's inner edge

@@ -66,10 +66,9 @@ pub fn face_below(disc: &PosedDisc, side: f64, z_top: f64) -> Option<(f64, f64)>
 /// ring for every [`RING_GRADE`] bands, graded towards `r_lo`. There the
 /// face meets the rock's top (where that is flat): a ring of radius `r`
 /// reaches `m (r - r_lo)` below it (`m` the sine of the axle's tilt from
-/// the vertical), so the arc
-/// it cuts from the rock, and its load, rise like `sqrt(r - r_lo)`, and the
-/// midpoint rule in the radius converged like its rings' spacing to the
-/// power 1.5. In `u = sqrt((r - r_lo) / L)` (`L` the graded length) each
+/// the vertical), so the arc it cuts from the rock, and its load, rise like
+/// `sqrt(r - r_lo)`, and the midpoint rule in the radius converged like its
+/// rings' spacing to the power 1.5. In `u = sqrt((r - r_lo) / L)` (`L` the graded length) each
 /// ring's piece is an interval of equal width; its ring lies where `sqrt`
 /// takes its mean over the piece, `u = 2/3 (u1^3 - u0^3) / (u1^2 - u0^2)`,
 /// and carries the piece's width, so a load `sqrt(r - r_lo)` is summed
@@ -251,9 +250,9 @@ mod tests {
     }
 
     /// A ring's load rises like `sqrt(r - r_lo)` from the band's inner edge
-    /// (times a factor that varies slowly): the graded rings sum that
-    /// exactly but for the factor's curvature, with a third of the rings a
-    /// band each would take, and closer than those.
+    /// (times a factor that varies slowly): the graded rings sum the square
+    /// root exactly, and with the factor closer than a ring a band, with a
+    /// third of the rings.
     #[test]
     fn graded_rings_sum_a_square_root_onset_better_than_a_ring_a_band() {
         let (r_lo, r_hi, step): (f64, f64, f64) = (0.2128, 0.2370, 1e-3);

@@ -717,7 +717,7 @@ impl<'a> Query<'a> {
                     (arc.u_max, self.law.regularisation(arc.depth)),
                     self.elastic_depth,
                     eta,
-                    Some(&parts[..np]),
+                    Some((&parts[..np], [sc01.0, sc01.1])),
                 );
                 // a slice that touches over part of its strip sets the depth
                 // in proportion to that part, up to half its strip: a sliver of

@@ -434,18 +434,17 @@ impl SliceWalk {
         })
     }
 
-    /// The circle, its lowest point's sine and cosine, and the rock over it.
-    pub(super) fn start(&self, map: &HeightMap, disc: &PosedDisc) -> (RimCircle, f64, f64, f64) {
+    /// The circle and the rock over its lowest point (at `self.sc0`).
+    pub(super) fn start(&self, map: &HeightMap, disc: &PosedDisc) -> (RimCircle, f64) {
         let rim = RimCircle::new(disc, self.y, self.radius);
-        let (s, c) = self.sc0;
-        let here0 = rim.overlap_here(map, s, c);
-        (rim, s, c, here0)
+        let here0 = rim.overlap_here(map, self.sc0.0, self.sc0.1);
+        (rim, here0)
     }
 
     /// Marches the sides `wanted` (`dir` = +1 towards cutter +x,
     /// then -1) and brackets each contact arc's ends, written into `out`
-    /// (`[+1, -1]`; a side not walked is `None`): the circle, the lowest
-    /// point's sine and cosine and the rock over it read once. Each walk is
+    /// (`[+1, -1]`; a side not walked is `None`): the circle and the rock
+    /// over its lowest point read once. Each walk is
     /// some 150 bytes: built where it is kept, not copied there (a pair
     /// returned by value and stored was a `memcpy` of 300 bytes a circle).
     #[inline(always)]
@@ -463,16 +462,16 @@ impl SliceWalk {
         }
     }
 
-    /// The march of one side (`dir`) of the circle, the circle, its lowest
-    /// point's sine and cosine and the rock over it read once for both.
+    /// The march of one side (`dir`) of the circle, the circle and the rock
+    /// over its lowest point read once for both.
     #[inline(always)]
     pub(super) fn sides<'a>(
         &'a self,
         map: &'a HeightMap,
         disc: &PosedDisc,
     ) -> impl Fn(f64) -> Option<Walk> + 'a {
-        let (rim, s, c, here0) = self.start(map, disc);
-        move |dir: f64| self.march_from(map, &rim, (s, c), here0, dir)
+        let (rim, here0) = self.start(map, disc);
+        move |dir: f64| self.march_from(map, &rim, here0, dir)
     }
 
     /// Which sides (`[+1, -1]`) of the circle drive into the rock within
@@ -492,7 +491,7 @@ impl SliceWalk {
     /// `is_some()`), without walking the arcs: the rock is over the rim at
     /// its lowest point, or on one of those sides within the reach.
     pub(super) fn touches(&self, map: &HeightMap, disc: &PosedDisc, wanted: [bool; 2]) -> bool {
-        let (rim, s, c, here0) = self.start(map, disc);
+        let (rim, here0) = self.start(map, disc);
         if here0 > 0.0 {
             return true;
         }
@@ -504,27 +503,21 @@ impl SliceWalk {
             .map(|w| w.0)
             .any(|dir| {
                 let dt = dir * self.reach / n as f64;
-                self.find_start(map, &rim, (s, c), here0, dir, dt).is_some()
+                self.find_start(map, &rim, here0, dir, dt).is_some()
             })
     }
 
     /// One side (`dir`) of [`SliceWalk::march_into`] on the circle `rim`
-    /// from `theta0` (sine `s0`, cosine `c0`), where the rock over the rim is
+    /// from `theta0` (sine and cosine `sc0`), where the rock over the rim is
     /// `here0`.
     ///
     /// (Until the start is found only the rock over the rim itself is read:
     /// where it is positive the look-ahead is that same value, see
     /// [`rock_over`], and where it is not the walk has not started.)
-    fn march_from(
-        &self,
-        map: &HeightMap,
-        rim: &RimCircle,
-        (s0, c0): SinCos,
-        here0: f64,
-        dir: f64,
-    ) -> Option<Walk> {
+    fn march_from(&self, map: &HeightMap, rim: &RimCircle, here0: f64, dir: f64) -> Option<Walk> {
         let (y, radius, theta0, reach, look) =
             (self.y, self.radius, self.theta0, self.reach, self.look);
+        let (s0, c0) = self.sc0;
         let n = ((reach / self.step).ceil() as usize).max(1);
         let dt = dir * reach / n as f64;
         let (sd, cd) = sin_cos_near(dt, 0.0, (0.0, 1.0));
@@ -538,7 +531,7 @@ impl SliceWalk {
             sc_a = Some((s0, c0));
             (theta0, None, theta0, here0)
         } else {
-            let (t, tp, up, here) = self.find_start(map, rim, (s0, c0), here0, dir, dt)?;
+            let (t, tp, up, here) = self.find_start(map, rim, here0, dir, dt)?;
             u_max = here;
             // resume the coarse grid at the last grid angle before the start
             k = ((t - theta0) / dt).floor().max(0.0) as usize;
@@ -617,8 +610,8 @@ impl SliceWalk {
         })
     }
 
-    /// The start of a walk whose lowest point `theta0` (sine `s0`, cosine
-    /// `c0`) is out of the rock (`here0 <= 0`), on the side `dir` within
+    /// The start of a walk whose lowest point `theta0` (sine and cosine
+    /// `sc0`) is out of the rock (`here0 <= 0`), on the side `dir` within
     /// `reach`, the coarse step being `dt`: the first angle where the rock is
     /// over the rim, the angle before it and the rock over the rim there, and
     /// the rock over the rim at the start. `None` when the rim stays out.
@@ -626,13 +619,13 @@ impl SliceWalk {
         &self,
         map: &HeightMap,
         rim: &RimCircle,
-        (s0, c0): SinCos,
         here0: f64,
         dir: f64,
         dt: f64,
     ) -> Option<(f64, f64, f64, f64)> {
         let (radius, theta0, reach, look, skip) =
             (self.radius, self.theta0, self.reach, self.look, self.skip);
+        let (s0, c0) = self.sc0;
         // the lowest point is out of the rock: search for the start with a
         // step of half a cell of rim, so that a short arc (the rim meeting
         // the end face of the rock, a groove's shoulder) is not stepped over

@@ -323,27 +323,42 @@ pub(crate) fn rim_travel_between(
     (p1 - p0).norm() + reach.turn(&phi, p0.z.min(p1.z))
 }
 
-/// The most weighted node visits one cut of a disc of `cutter` can make on
-/// a map of `grid`: every node a cut scans lies within the solid's reach of
-/// its centre (`sqrt(R^2 + (W/2)^2)`), each counted as a tilted disc's.
-pub(crate) fn most_visits_per_cut(
+/// The most nodes one cut of a disc of `cutter` can scan on a map of
+/// `grid`: every node a cut scans lies within the solid's reach of its
+/// centre (`sqrt(R^2 + (W/2)^2)`).
+pub(crate) fn reach_nodes(
     cutter: &super::params::CutterParams,
     grid: &super::heightmap::Grid,
 ) -> f64 {
     let reach = solid_reach(cutter);
-    (2.0 * reach / grid.dx + 2.0) * (2.0 * reach / grid.dy + 2.0) * TILTED_NODE_WEIGHT
+    (2.0 * reach / grid.dx + 2.0) * (2.0 * reach / grid.dy + 2.0)
 }
 
-/// The weighted node visits of a cut at the posed disc: the nodes of its
-/// window, each counting `TILTED_NODE_WEIGHT` under a tilted axle (its
-/// lower boundary takes Newton steps).
-pub(crate) fn cut_visits(map: &HeightMap, disc: &PosedDisc) -> f64 {
-    let w = if disc.rot[(2, 1)].abs() > 1e-12 {
+/// The most weighted node visits one cut of a disc of `cutter` can make on
+/// a map of `grid`, whatever its pose: [`reach_nodes`], each counted as a
+/// tilted disc's.
+pub(crate) fn most_visits_per_cut(
+    cutter: &super::params::CutterParams,
+    grid: &super::heightmap::Grid,
+) -> f64 {
+    reach_nodes(cutter, grid) * TILTED_NODE_WEIGHT
+}
+
+/// What one node of a cut of the posed disc counts in the budget:
+/// `TILTED_NODE_WEIGHT` under a tilted axle (its lower boundary takes
+/// Newton steps), else 1.
+pub(crate) fn visit_weight(disc: &PosedDisc) -> f64 {
+    if disc.rot[(2, 1)].abs() > 1e-12 {
         TILTED_NODE_WEIGHT
     } else {
         1.0
-    };
-    w * window_nodes(map, disc) as f64
+    }
+}
+
+/// The weighted node visits of a cut at the posed disc: the nodes of its
+/// window, each counting [`visit_weight`].
+pub(crate) fn cut_visits(map: &HeightMap, disc: &PosedDisc) -> f64 {
+    visit_weight(disc) * window_nodes(map, disc) as f64
 }
 
 /// Refuses a call whose cuts would make `visits` weighted node visits, more
@@ -676,17 +691,20 @@ impl Model {
         let poses: Vec<Pose> = poses.collect();
         let map = &self.state.face.map;
         // when the reach bound already fits, the windows need not be found
-        // twice (they cost a tenth of a cut)
-        if most_visits_per_cut(&self.params.cutter, map.grid()) * poses.len() as f64
-            <= MAX_NODE_VISITS_PER_CALL
-        {
-            return poses.iter().try_for_each(Pose::validate);
-        }
-        let mut visits = 0.0;
-        for p in poses {
+        // twice (they cost a tenth of a cut); the bound counts an upright
+        // disc's nodes as upright (it counted every node as a tilted disc's,
+        // so that a long commit of an upright disc, e.g. a lap of a 0.1 m
+        // track in 333 sub-steps, found every window twice)
+        let reach = reach_nodes(&self.params.cutter, map.grid());
+        let mut bound = 0.0;
+        for p in &poses {
             p.validate()?;
-            visits += cut_visits(map, &self.disc(&p));
+            bound += reach * visit_weight(&self.disc(p));
         }
+        if bound <= MAX_NODE_VISITS_PER_CALL {
+            return Ok(());
+        }
+        let visits: f64 = poses.iter().map(|p| cut_visits(map, &self.disc(p))).sum();
         bound_visits(visits, MAX_NODE_VISITS_PER_CALL, what, span)
     }
 

@@ -4,8 +4,8 @@
 use super::*;
 
 /// What a rolling disc's cut need not visit behind it: a box in plan
-/// about its heading, from `s[0]` to `s[1]` along the heading `u` from the
-/// disc centre `c`, within `half` of the centre plane across it.
+/// about a heading, from `s[0]` to `s[1]` along the heading `u` from the
+/// point `c`, and from `l[0]` to `l[1]` across it (towards `(-u.1, u.0)`).
 ///
 /// Behind its lowest point a rolling disc's surface rises, so the rock its
 /// last cut left there lies below it still, and a cut walked those nodes
@@ -17,31 +17,37 @@ use super::*;
 /// on every path a cutterhead makes).
 ///
 /// The argument, for an axle horizontal at both poses (a face disc; a
-/// tilted disc's box is `Back::tilted`'s): the solid is convex, so its
-/// lower boundary `f'` at the last pose is a convex function in plan, and
-/// the solid now is the last one moved by a turn `alpha` about the
-/// vertical and a shift: the boundary now at `x` is `f'(x')` (`x'` the
-/// point that moved to `x`) plus the rise `t_z`. Every node the last cut
-/// scanned lies no higher than `f'` plus the elastic layer (a cut only
-/// lowers, and so do the cuts of other discs and chips since), so a node
-/// at `x` can fall now only if
-/// `f'(x') + t_z < f'(x)`. By convexity `f'(x') >= f'(x) - grad f'(x) . D`
-/// (`D = x - x'`); with `s'` the distance along the heading from the last
-/// centre (negative behind it), `Q = sqrt(rho^2 - s'^2)` and `S` the
-/// largest slope of the disc's section, `grad f' . D = (s' D_u - rho
-/// rho' D_l) / Q <= (-|s'| D_u + R S |D_l|) / Q`, so nodes where
-/// `|s'| D_u >= R S |D_l| + R max(-t_z, 0)` keep their height. `D_u` (the
-/// travel along the heading) and `|D_l|` (across it: crabbing, and `alpha
-/// s` from the turn) are bounded over the disc, which gives the distance
-/// `b` behind the centre from which that holds; across, the box keeps
-/// clear of the last cut's side edges (`half`), and it lies where the last
-/// cut reached (inside its [`Front`]).
+/// tilted disc's box is `Back::tilted`'s), in the last pose's frame: `c`
+/// its centre, `u` its heading along the travel, `(s', l')` a point's
+/// coordinates along and across it. The solid is convex, so its lower
+/// boundary `f'` at the last pose is a convex function in plan, and the
+/// solid now is the last one moved by a turn `alpha` about the vertical
+/// and a shift: the boundary now at `x` is `f'(x')` (`x'` the point that
+/// moved to `x`) plus the rise `t_z`. Every node the last cut scanned lies
+/// no higher than `f'` plus the elastic layer (a cut only lowers, and so do
+/// the cuts of other discs and chips since), so a node at `x` can fall now
+/// only if `f'(x') + t_z < f'(x)`. By convexity `f'(x') >= f'(x) - grad
+/// f'(x) . D` (`D = x - x'`, affine in `x`: `D_u` along the heading, `D_l`
+/// across). With `Q = sqrt(rho(l')^2 - s'^2)`, `grad f' . D = (s' D_u -
+/// rho rho'(l') D_l) / Q`, and the section's radius `rho` falls away from
+/// the mid-plane (`rho' l' <= 0`, `|rho'| <= S(|l'|)`, the slope at `|l'|`),
+/// so behind the centre (`s' < 0`) the term across only counts where the
+/// point moved away from the mid-plane (`l' D_l > 0`), and nodes where
+/// `|s'| D_u >= R S(|l'|) max(sign(l') D_l, 0) + R max(-t_z, 0)` keep their
+/// height. A turn swings the back to one side, by `|alpha| |s'|`, growing
+/// with the distance behind: on that side the box is as wide as the slope
+/// stays below half of `D_u / (R |alpha|)` (a tight track's outer wall is
+/// where the back scrubs), on the other the whole section; `D_u` and the
+/// rest of `D_l` are bounded over the section, which gives the distance
+/// `b` behind the centre from which it holds. The box lies inside the last
+/// solid's plan (its radius at the box's edge reaches the far end) and
+/// where the last cut reached (inside its [`Front`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Back {
     pub(super) c: (f64, f64),
     pub(super) u: (f64, f64),
     pub(super) s: [f64; 2],
-    pub(super) half: f64,
+    pub(super) l: [f64; 2],
     /// For a tilted disc, the part of the box inside its core ([`Core`]).
     pub(super) core: Option<Core>,
 }
@@ -76,9 +82,8 @@ impl Back {
     /// The box for a cut of `disc` after a cut of the same disc at `prev`
     /// that reached no further than `prev_front` ahead, both with a full
     /// plastic fraction and the same elastic layer (the caller's to check);
-    /// `None` where the argument does not hold: an axle not horizontal, a
-    /// turn of more than 2.6 deg or too tight for the section's slope (the
-    /// back swinging out faster than it rises), a move that is mostly not
+    /// `None` where the argument does not hold: an axle not horizontal at one
+    /// pose only, a turn of more than 2.6 deg, a move that is mostly not
     /// along the heading, or a box that would reach past `prev_front`.
     pub fn of(prev: &PosedDisc, prev_front: Option<Front>, disc: &PosedDisc) -> Option<Back> {
         let same = prev.radius == disc.radius
@@ -102,12 +107,23 @@ impl Back {
         if h >= rt {
             return None;
         }
-        // largest slope of the section's radius across the axle
-        let slope = (h / (rt * rt - h * h).sqrt()).max(if disc.has_flanks() {
+        // the section's slope: the tip's at its edge, the flanks' beyond
+        let tip_slope = h / (rt * rt - h * h).sqrt();
+        let most = tip_slope.max(if disc.has_flanks() {
             disc.flank_cot
         } else {
             0.0
         });
+        // how far across the axle the slope stays at most `k`
+        let within = |k: f64| {
+            if k >= most {
+                hw
+            } else if k >= tip_slope {
+                h
+            } else {
+                k * rt / (1.0 + k * k).sqrt()
+            }
+        };
         let (n0, n1) = (a0.x.hypot(a0.y), a1.x.hypot(a1.y));
         let (l0, l1) = ((a0.x / n0, a0.y / n0), (a1.x / n1, a1.y / n1));
         // the turn from the last axle to this one (an axle turned end for
@@ -119,47 +135,63 @@ impl Back {
         if cos_a.is_nan() || cos_a < 0.999 {
             return None;
         }
-        // the heading, the way the centre moved
-        let (dx, dy) = (disc.centre.x - prev.centre.x, disc.centre.y - prev.centre.y);
-        let t_z = disc.centre.z - prev.centre.z;
-        let mut u = (l1.1, -l1.0);
-        let mut d_u = dx * u.0 + dy * u.1;
-        if d_u < 0.0 {
+        let (c0, c1) = (prev.centre, disc.centre);
+        let (dx, dy) = (c1.x - c0.x, c1.y - c0.y);
+        let t_z = c1.z - c0.z;
+        // the last heading, along the travel, and across it
+        let mut u = (l0.1, -l0.0);
+        if dx * u.0 + dy * u.1 < 0.0 {
             u = (-u.0, -u.1);
-            d_u = -d_u;
         }
-        let d_l = (dx * -u.1 + dy * u.0).abs();
-        let dn = dx.hypot(dy);
-        // |alpha| (asin x <= 1.001 x for cos >= 0.999, rounded up)
-        let aa = 1.01 * sin_a.abs();
-        let c1 = 1.0 - cos_a;
-        // how far a point of the solid lies from its centre in plan
-        let reach = r.hypot(hw);
-        let d_max = dn + (c1 + aa) * reach;
-        // least D_u, and |D_l| <= l0 + aa |s|, over the solid (in the last
-        // pose's frame: its axes are turned by alpha from these)
-        let du_min = d_u - c1 * reach - aa * hw - aa * d_max;
-        let l_0 = d_l + c1 * hw + aa * d_max;
-        // |s'| >= |s| - d_u - e
-        let e = aa * (reach + dn);
-        let k = du_min - r * slope * aa;
-        if !(du_min > 0.0 && k >= 0.25 * du_min) {
+        let w = (-u.1, u.0);
+        // the move `(D_u, D_l)` of the point at `(s', l')`: now at x, it was
+        // at `x' = c0 + R(-alpha) (x - c1)`; affine, `D(0) + k_s s' + k_l l'`
+        let moved = |sp: f64, lp: f64| {
+            let (x, y) = (c0.x + sp * u.0 + lp * w.0, c0.y + sp * u.1 + lp * w.1);
+            let (vx, vy) = (x - c1.x, y - c1.y);
+            let (mx, my) = (
+                x - c0.x - cos_a * vx - sin_a * vy,
+                y - c0.y + sin_a * vx - cos_a * vy,
+            );
+            (mx * u.0 + my * u.1, mx * w.0 + my * w.1)
+        };
+        let d0 = moved(0.0, 0.0);
+        let (ds, dl) = (moved(1.0, 0.0), moved(0.0, 1.0));
+        let (ks, kl) = ((ds.0 - d0.0, ds.1 - d0.1), (dl.0 - d0.0, dl.1 - d0.1));
+        // least D_u over the section (|s'| <= R, |l'| <= W/2)
+        let du_min = d0.0 - ks.0.abs() * r - kl.0.abs() * hw;
+        if du_min.is_nan() || du_min <= 0.0 {
             return None;
         }
-        let b = (r * slope * l_0 + r * (-t_z).max(0.0) + (d_u + e) * du_min) / k;
-        let b = 1.05 * b + 1e-9;
-        // across: the last cut's solid covers the box's width; along: its
-        // section reaches the box's far end
-        let half = hw - (d_l + aa * (reach + dn)) - 1e-9;
-        let far = disc.rho_full(hw) + d_u - e - 1e-9;
-        if !(half > 0.0 && far > b) {
+        // one side of the mid-plane: `swing`, how fast the move away from
+        // the mid-plane grows with the distance behind, and `d`, that move
+        // at the centre; the box's width on that side and the distance
+        // behind from which it holds
+        let side = |swing: f64, d: f64| {
+            let k = if swing > 0.0 {
+                most.min(0.5 * du_min / (r * swing))
+            } else {
+                most
+            };
+            let half = within(k);
+            let gain = du_min - r * k * swing;
+            let need = r * k * (d.max(0.0) + kl.1.abs() * half) + r * (-t_z).max(0.0);
+            (half, need / gain)
+        };
+        // behind the centre (s' < 0) `D_l` grows by `-k_s.1 |s'|`
+        let (h_pos, b_pos) = side((-ks.1).max(0.0), d0.1);
+        let (h_neg, b_neg) = side(ks.1.max(0.0), -d0.1);
+        let b = 1.05 * b_pos.max(b_neg) + 1e-9;
+        // along: the last solid's section reaches the box's far end
+        let far = disc.rho_full(h_pos.max(h_neg)) - 1e-9;
+        if !(far > b && b.is_finite()) {
             return None;
         }
         let back = Back {
-            c: (disc.centre.x, disc.centre.y),
+            c: (c0.x, c0.y),
             u,
             s: [-far, -b],
-            half,
+            l: [-(h_neg - 1e-9), h_pos - 1e-9],
             core: None,
         };
         back.behind(prev_front).then_some(back)
@@ -342,7 +374,7 @@ impl Back {
             c: (c0.x, c0.y),
             u,
             s,
-            half,
+            l: [-half, half],
             core: Some(core),
         })
     }
@@ -352,10 +384,10 @@ impl Back {
         let (u, l) = (self.u, (-self.u.1, self.u.0));
         let at = |s: f64, d: f64| (self.c.0 + s * u.0 + d * l.0, self.c.1 + s * u.1 + d * l.1);
         [
-            at(self.s[0], -self.half),
-            at(self.s[0], self.half),
-            at(self.s[1], -self.half),
-            at(self.s[1], self.half),
+            at(self.s[0], self.l[0]),
+            at(self.s[0], self.l[1]),
+            at(self.s[1], self.l[0]),
+            at(self.s[1], self.l[1]),
         ]
     }
 
@@ -378,7 +410,7 @@ impl Back {
             back: *self,
             strips: [
                 Strip::new(u.0, u.1, self.s[0], self.s[1]),
-                Strip::new(l.0, l.1, -self.half, self.half),
+                Strip::new(l.0, l.1, self.l[0], self.l[1]),
             ],
         }
     }

@@ -179,6 +179,43 @@ fn plan_grid(disc: &kerf::core::cutter::PosedDisc, cell: f64) -> kerf::core::hei
     kerf::core::heightmap::Grid::new(cx - r, cx + r, cy - r, cy + r, n, n)
 }
 
+/// The claim a box rests on, at every node of `g` it leaves out: the last
+/// pose's solid `d0` lies over the node and the solid now `d1` nowhere
+/// lower there (to round-off). The nodes left out, and how many of them lie
+/// under the last solid's side face; or the first node where it fails.
+fn left_out_where_risen(
+    back: &kerf::core::cut_cutter_heightmap::Back,
+    d0: &kerf::core::cutter::PosedDisc,
+    d1: &kerf::core::cutter::PosedDisc,
+    g: &kerf::core::heightmap::Grid,
+) -> Result<(usize, usize), String> {
+    let (mut left_out, mut over_face) = (0, 0);
+    for j in 0..g.ny {
+        for i in 0..g.nx {
+            if !back.leaves_out(g, i, j) {
+                continue;
+            }
+            left_out += 1;
+            let (x, y) = g.node_xy(i, j);
+            let Some((z0, face)) = d0.lower_boundary(x, y) else {
+                return Err(format!(
+                    "({x:.5}, {y:.5}) left out, not under the last solid"
+                ));
+            };
+            if let Some((z1, _)) = d1.lower_boundary(x, y) {
+                if z1 < z0 - 1e-12 {
+                    return Err(format!(
+                        "({x:.5}, {y:.5}) left out, the disc fell {:e} m there",
+                        z0 - z1
+                    ));
+                }
+            }
+            over_face += usize::from(matches!(face, kerf::core::cutter::Face::Side(_)));
+        }
+    }
+    Ok((left_out, over_face))
+}
+
 fn prm() -> Params {
     face(1e-3, -0.5, 0.5, -0.5, 0.5)
 }
@@ -646,28 +683,9 @@ fn a_box_leaves_out_only_nodes_the_disc_has_risen_from() {
         boxes += 1;
         // a 0.25 mm grid over the disc's plan
         let g = plan_grid(&d1, 0.25e-3);
-        let n = g.nx;
-        for j in 0..n {
-            for i in 0..n {
-                if !back.leaves_out(&g, i, j) {
-                    continue;
-                }
-                left_out += 1;
-                let (x, y) = g.node_xy(i, j);
-                let last = d0.lower_boundary(x, y);
-                let now = d1.lower_boundary(x, y);
-                let Some((z0, _)) = last else {
-                    panic!("track {k}: ({x:.5}, {y:.5}) left out, not under the last solid");
-                };
-                if let Some((z1, _)) = now {
-                    assert!(
-                        z1 >= z0 - 1e-12,
-                        "track {k}: ({x:.5}, {y:.5}) left out, the disc fell {:e} m there",
-                        z0 - z1
-                    );
-                }
-            }
-        }
+        let (n, _) =
+            left_out_where_risen(&back, &d0, &d1, &g).unwrap_or_else(|e| panic!("track {k}: {e}"));
+        left_out += n;
     }
     eprintln!("{boxes} boxes, {left_out} nodes left out");
     assert!(
@@ -712,25 +730,9 @@ fn a_descending_gauge_discs_box_leaves_out_its_lower_face_only_where_it_rose() {
         let (d0, d1) = (posed(&track.pose(0.1)), posed(&p1));
         let back = Back::of(&d0, None, &d1).expect("a box");
         let g = plan_grid(&d1, 0.25e-3);
-        for j in 0..g.ny {
-            for i in 0..g.nx {
-                if !back.leaves_out(&g, i, j) {
-                    continue;
-                }
-                let (x, y) = g.node_xy(i, j);
-                let (z0, face) = d0
-                    .lower_boundary(x, y)
-                    .expect("left out, not under the last solid");
-                if let Some((z1, _)) = d1.lower_boundary(x, y) {
-                    assert!(
-                        z1 >= z0 - 1e-12,
-                        "roll {roll}: ({x:.5}, {y:.5}) left out, the disc fell {:e} m there",
-                        z0 - z1
-                    );
-                }
-                over_face += usize::from(matches!(face, kerf::core::cutter::Face::Side(_)));
-            }
-        }
+        let (_, face) = left_out_where_risen(&back, &d0, &d1, &g)
+            .unwrap_or_else(|e| panic!("roll {roll}: {e}"));
+        over_face += face;
     }
     assert!(
         over_face > 100_000,
@@ -785,23 +787,8 @@ proptest::proptest! {
         let (d0, d1) = (PosedDisc::new(&p.cutter, &a), PosedDisc::new(&p.cutter, &b));
         if let Some(back) = Back::of(&d0, None, &d1) {
             let g = plan_grid(&d1, 0.5e-3);
-            for j in 0..g.ny {
-                for i in 0..g.nx {
-                    if !back.leaves_out(&g, i, j) {
-                        continue;
-                    }
-                    let (x, y) = g.node_xy(i, j);
-                    let last = d0.lower_boundary(x, y);
-                    proptest::prop_assert!(last.is_some(), "({x}, {y}) not under the last solid");
-                    if let (Some((z0, _)), Some((z1, _))) = (last, d1.lower_boundary(x, y)) {
-                        proptest::prop_assert!(
-                            z1 >= z0 - 1e-12,
-                            "({x:.5}, {y:.5}) left out, the disc fell {:e} m there",
-                            z0 - z1
-                        );
-                    }
-                }
-            }
+            let held = left_out_where_risen(&back, &d0, &d1, &g);
+            proptest::prop_assert!(held.is_ok(), "{}", held.unwrap_err());
         }
     }
 }

@@ -54,6 +54,51 @@ pub struct Back {
     pub(super) core: Option<Core>,
 }
 
+/// How a disc moved in plan between its last pose and this one, in the
+/// last pose's frame: `c0` and `c1` the two centres, `(cos_a, sin_a)` the
+/// turn `alpha` from the last axle to this one, `u` the last heading (the
+/// last axle `l0` turned a right angle, along the travel) and `w` across
+/// it.
+#[derive(Debug, Clone, Copy)]
+struct Move {
+    c0: (f64, f64),
+    c1: (f64, f64),
+    cs: (f64, f64),
+    u: (f64, f64),
+    w: (f64, f64),
+}
+
+impl Move {
+    fn new(c0: (f64, f64), c1: (f64, f64), cs: (f64, f64), l0: (f64, f64)) -> Self {
+        let (dx, dy) = (c1.0 - c0.0, c1.1 - c0.1);
+        let mut u = (l0.1, -l0.0);
+        if dx * u.0 + dy * u.1 < 0.0 {
+            u = (-u.0, -u.1);
+        }
+        Move {
+            c0,
+            c1,
+            cs,
+            u,
+            w: (-u.1, u.0),
+        }
+    }
+
+    /// The move `(D_u, D_l)` of the point at `(s', l')` of the last frame:
+    /// now at `x`, it was at `x' = c0 + R(-alpha) (x - c1)`.
+    #[inline]
+    fn at(&self, sp: f64, lp: f64) -> (f64, f64) {
+        let (c0, c1, (cos_a, sin_a), u, w) = (self.c0, self.c1, self.cs, self.u, self.w);
+        let (x, y) = (c0.0 + sp * u.0 + lp * w.0, c0.1 + sp * u.1 + lp * w.1);
+        let (vx, vy) = (x - c1.0, y - c1.1);
+        let (mx, my) = (
+            x - c0.0 - cos_a * vx - sin_a * vy,
+            y - c0.1 + sin_a * vx - cos_a * vy,
+        );
+        (mx * u.0 + my * u.1, mx * w.0 + my * w.1)
+    }
+}
+
 /// The plan of a tilted disc's core (`|y| <= h`, `|q_xz| <= rho(h)`) about
 /// the box's centre and heading: `(max(|l| - h_l, 0) / b)^2 + (s / a)^2
 /// <= 1`, `s` along the heading and `l` across it; `a` and `b` shrunk by a
@@ -138,25 +183,10 @@ impl Back {
             return None;
         }
         let (c0, c1) = (prev.centre, disc.centre);
-        let (dx, dy) = (c1.x - c0.x, c1.y - c0.y);
         let t_z = c1.z - c0.z;
-        // the last heading, along the travel, and across it
-        let mut u = (l0.1, -l0.0);
-        if dx * u.0 + dy * u.1 < 0.0 {
-            u = (-u.0, -u.1);
-        }
-        let w = (-u.1, u.0);
-        // the move `(D_u, D_l)` of the point at `(s', l')`: now at x, it was
-        // at `x' = c0 + R(-alpha) (x - c1)`; affine, `D(0) + k_s s' + k_l l'`
-        let moved = |sp: f64, lp: f64| {
-            let (x, y) = (c0.x + sp * u.0 + lp * w.0, c0.y + sp * u.1 + lp * w.1);
-            let (vx, vy) = (x - c1.x, y - c1.y);
-            let (mx, my) = (
-                x - c0.x - cos_a * vx - sin_a * vy,
-                y - c0.y + sin_a * vx - cos_a * vy,
-            );
-            (mx * u.0 + my * u.1, mx * w.0 + my * w.1)
-        };
+        // the move, affine in the place: `D(0) + k_s s' + k_l l'`
+        let mv = Move::new((c0.x, c0.y), (c1.x, c1.y), (cos_a, sin_a), l0);
+        let (u, moved) = (mv.u, |sp: f64, lp: f64| mv.at(sp, lp));
         let d0 = moved(0.0, 0.0);
         let (ds, dl) = (moved(1.0, 0.0), moved(0.0, 1.0));
         let (ks, kl) = ((ds.0 - d0.0, ds.1 - d0.1), (dl.0 - d0.0, dl.1 - d0.1));
@@ -273,27 +303,13 @@ impl Back {
             return None;
         }
         let (c0, c1) = (prev.centre, disc.centre);
-        let (dx, dy) = (c1.x - c0.x, c1.y - c0.y);
         let t_z = c1.z - c0.z;
         // the last heading (horizontal in the last disc's plane), along
-        // the travel, and across it
-        let mut u = (l0.1, -l0.0);
-        if dx * u.0 + dy * u.1 < 0.0 {
-            u = (-u.0, -u.1);
-        }
-        let w = (-u.1, u.0);
+        // the travel, and the move
+        let mv = Move::new((c0.x, c0.y), (c1.x, c1.y), (cos_a, sin_a), l0);
+        let (u, w) = (mv.u, mv.w);
         let (ax_l, ax_z) = (a0.x * w.0 + a0.y * w.1, a0.z);
-        // the move `(D_u, D_l)` of the point at `(s', l')` of the last
-        // frame: now at x, it was at `x' = c0 + R(-alpha) (x - c1)`
-        let moved = |sp: f64, lp: f64| {
-            let (x, y) = (c0.x + sp * u.0 + lp * w.0, c0.y + sp * u.1 + lp * w.1);
-            let (vx, vy) = (x - c1.x, y - c1.y);
-            let (mx, my) = (
-                x - c0.x - cos_a * vx - sin_a * vy,
-                y - c0.y + sin_a * vx - cos_a * vy,
-            );
-            (mx * u.0 + my * u.1, mx * w.0 + my * w.1)
-        };
+        let moved = |sp: f64, lp: f64| mv.at(sp, lp);
         let corners = |s: [f64; 2], half: f64| {
             [(s[0], -half), (s[0], half), (s[1], -half), (s[1], half)].map(|(sp, lp)| moved(sp, lp))
         };

@@ -39,9 +39,8 @@ use super::*;
 /// stays below three quarters of `D_u / (R |alpha|)` (a tight track's outer
 /// wall is where the back scrubs; the quarter of `D_u` left over bounds `b`
 /// as the whole-width box's margin did), on the other the whole section;
-/// `D_u` and the
-/// rest of `D_l` are bounded over the section, which gives the distance
-/// `b` behind the centre from which it holds. The box lies inside the last
+/// `D_u` and the rest of `D_l` are bounded over the section, which gives
+/// the distance `b` behind the centre from which it holds. The box lies inside the last
 /// solid's plan (its radius at the box's edge reaches the far end) and
 /// where the last cut reached (inside its [`Front`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -129,9 +128,10 @@ impl Back {
     /// The box for a cut of `disc` after a cut of the same disc at `prev`
     /// that reached no further than `prev_front` ahead, both with a full
     /// plastic fraction and the same elastic layer (the caller's to check);
-    /// `None` where the argument does not hold: an axle not horizontal at one
-    /// pose only, a turn of more than 2.6 deg, a move that is mostly not
-    /// along the heading, or a box that would reach past `prev_front`.
+    /// `None` where the argument does not hold: a turn of more than 2.6 deg,
+    /// a move that is mostly not along the heading (no travel left over the
+    /// section), or a box that would reach past `prev_front`. An axle that
+    /// is not horizontal takes `Back::tilted`'s argument.
     pub fn of(prev: &PosedDisc, prev_front: Option<Front>, disc: &PosedDisc) -> Option<Back> {
         let same = prev.radius == disc.radius
             && prev.half_width == disc.half_width

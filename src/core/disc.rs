@@ -28,8 +28,8 @@ use super::error::Result;
 use super::face::Face;
 use super::heightmap::{HeightMap, TileRect};
 use super::model::{
-    bound_sub_steps, bound_visits, check_interval, cut_visits, friction_force, most_visits_per_cut,
-    rim_travel_between, step_travel, steps_for, Outputs, RimReach,
+    bound_sub_steps, check_interval, check_posed_visits, friction_force, most_visits_per_cut,
+    reach_nodes, rim_travel_between, step_travel, steps_for, Outputs, RimReach,
 };
 use super::params::MAX_NODE_VISITS_PER_CALL;
 use super::params::{CsmParams, CutterParams, DirectionRule, Params};
@@ -735,10 +735,13 @@ pub(crate) fn time_groups(counts: &[usize]) -> Vec<(usize, usize, Vec<usize>)> {
 /// as kerf.fmu may in one call for each disc (`MAX_NODE_VISITS_PER_CALL`
 /// times the number of discs; a tilted disc's node counts
 /// `TILTED_NODE_WEIGHT`, as `Model` counts them), else the call is refused
-/// naming the split that would fit. The windows are counted only when the
-/// discs' reach does not bound the work already (a head's 1 ms step never
-/// needs them: 78 cuts of the reference head may make at most 9e8 visits
-/// against its budget of 2.8e9). `what` and `span` name the call.
+/// naming the split that would fit. The discs are posed for it only when
+/// their reach, every node counted as a tilted disc's, does not bound the
+/// work already (a head's 1 ms step never needs it: 78 cuts of the
+/// reference head may make at most 9e8 visits against its budget of
+/// 2.8e9), and the windows counted only when the reach weighed by each pose
+/// does not either ([`check_posed_visits`]). `what` and `span` name the
+/// call.
 fn check_call(
     map: &HeightMap,
     discs: &[Disc],
@@ -757,17 +760,18 @@ fn check_call(
         .flat_map(|(_, _, group)| group.iter().map(|&i| most[i]))
         .sum();
     let count = bound > budget;
-    let mut visits = 0.0;
+    let mut cuts = Vec::new();
     for (k, n, group) in groups {
         let m = at(*k, *n)?;
         for &i in group {
             m[i].0.validate()?;
             if count {
-                visits += cut_visits(map, &discs[i].posed(&m[i].0));
+                let d = &discs[i];
+                cuts.push((reach_nodes(d.cutter(), map.grid()), d.posed(&m[i].0)));
             }
         }
     }
-    bound_visits(visits, budget, what, span)
+    check_posed_visits(map, &cuts, budget, what, span)
 }
 
 /// Cuts the discs at the times of `groups` ([`time_groups`]), in that

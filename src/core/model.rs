@@ -361,6 +361,29 @@ pub(crate) fn cut_visits(map: &HeightMap, disc: &PosedDisc) -> f64 {
     visit_weight(disc) * window_nodes(map, disc) as f64
 }
 
+/// Refuses cuts at the posed discs `cuts` (each with [`reach_nodes`] of its
+/// cutter) that would make more than `budget` weighted node visits, for a
+/// call whose cheaper bound (every node counted as a tilted disc's,
+/// [`most_visits_per_cut`]) did not fit: each cut's reach weighed by its
+/// pose ([`visit_weight`]) first, and the windows themselves
+/// ([`cut_visits`]) only where that does not fit either. (A long commit of
+/// an upright disc, e.g. a lap of a 0.1 m track in 333 sub-steps, found
+/// every window twice while its nodes counted as a tilted disc's.)
+pub(crate) fn check_posed_visits(
+    map: &HeightMap,
+    cuts: &[(f64, PosedDisc)],
+    budget: f64,
+    what: &str,
+    span: f64,
+) -> Result<()> {
+    let bound: f64 = cuts.iter().map(|(r, d)| r * visit_weight(d)).sum();
+    if bound <= budget {
+        return Ok(());
+    }
+    let visits = cuts.iter().map(|(_, d)| cut_visits(map, d)).sum();
+    bound_visits(visits, budget, what, span)
+}
+
 /// Refuses a call whose cuts would make `visits` weighted node visits, more
 /// than `budget`, naming the split that would fit; `what` and `span` (its
 /// duration) name the call.
@@ -689,23 +712,18 @@ impl Model {
     /// Checks every pose of a path and the nodes its cuts would scan.
     fn check_visits(&self, poses: impl Iterator<Item = Pose>, what: &str, span: f64) -> Result<()> {
         let poses: Vec<Pose> = poses.collect();
+        poses.iter().try_for_each(Pose::validate)?;
         let map = &self.state.face.map;
-        // when the reach bound already fits, the windows need not be found
-        // twice (they cost a tenth of a cut); the bound counts an upright
-        // disc's nodes as upright (it counted every node as a tilted disc's,
-        // so that a long commit of an upright disc, e.g. a lap of a 0.1 m
-        // track in 333 sub-steps, found every window twice)
-        let reach = reach_nodes(&self.params.cutter, map.grid());
-        let mut bound = 0.0;
-        for p in &poses {
-            p.validate()?;
-            bound += reach * visit_weight(&self.disc(p));
-        }
-        if bound <= MAX_NODE_VISITS_PER_CALL {
+        // when the reach bound already fits, the discs need not be posed nor
+        // the windows found twice (they cost a tenth of a cut)
+        if most_visits_per_cut(&self.params.cutter, map.grid()) * poses.len() as f64
+            <= MAX_NODE_VISITS_PER_CALL
+        {
             return Ok(());
         }
-        let visits: f64 = poses.iter().map(|p| cut_visits(map, &self.disc(p))).sum();
-        bound_visits(visits, MAX_NODE_VISITS_PER_CALL, what, span)
+        let reach = reach_nodes(&self.params.cutter, map.grid());
+        let cuts: Vec<(f64, PosedDisc)> = poses.iter().map(|p| (reach, self.disc(p))).collect();
+        check_posed_visits(map, &cuts, MAX_NODE_VISITS_PER_CALL, what, span)
     }
 
     /// Moves the cutter from `start` along `twist` for `h` seconds, cutting the
